@@ -1,0 +1,347 @@
+"""Compiled kernel of the complete solver: every solution of one pose, certified.
+
+1. Sample the residual polynomial G(d) of :mod:`ik7r._poly` at Chebyshev points over the
+   whole range of the virtual offset d (theta5 over [-pi, pi]) and isolate all its real
+   roots (no root can be missed; tangential roots and clusters come back as candidates).
+2. At each root, solve the two conditions that are linear in (cos psi, sin psi) for each
+   shoulder branch, which gives theta1, theta2, theta3 exactly; theta5 = +-theta5(d); the wrist
+   gives theta4 and theta7 from the orientation.
+3. Verify every candidate on the exact forward kinematics; polish it with Newton-Raphson when
+   it misses (the nominal model differs from the exact one, or a root sits at a tangency);
+   drop it when it cannot be made exact. Remove duplicates.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import _layout as L
+from ._jit import njit
+from ._kin import chain, fk_user, polish, residual, user_angle
+from ._poly import (
+    bend_row_on_axis,
+    isolate,
+    linear_system,
+    refine,
+    residual_of,
+)
+from ._wrist import theta5_of_d, wrist_ik, wrist_target
+
+TWO_PI = 2.0 * math.pi
+DUP_TOL = 1e-7  # two solutions closer than this (rad, every joint) are one
+
+
+@njit
+def wrap(x):
+    """Angle wrapped to (-pi, pi]."""
+    y = (x + math.pi) - TWO_PI * math.floor((x + math.pi) / TWO_PI)  # in [0, 2 pi)
+    if y <= 0.0:
+        y += TWO_PI
+    return y - math.pi
+
+
+@njit
+def frame07(Td, K, T07):
+    """Frame 0 <- 7 of a world <- tool target: ``BASE^-1 Td TOOL^-1``."""
+    M = np.empty((4, 4))
+    for i in range(4):
+        for j in range(4):
+            s = 0.0
+            for k in range(4):
+                s += K[L.BASE_INV + 4 * i + k] * Td[k, j]
+            M[i, j] = s
+    for i in range(4):
+        for j in range(4):
+            s = 0.0
+            for k in range(4):
+                s += M[i, k] * K[L.TOOL_INV + 4 * k + j]
+            T07[i, j] = s
+
+
+@njit
+def _psi_candidates(a11, a12, m, a21, a22, c, out):
+    """(cos psi, sin psi) solving the 2 x 2 system on the unit circle: 0, 1 or 2 of them."""
+    det = a11 * a22 - a12 * a21
+    s1 = abs(a11) + abs(a12)
+    s2 = abs(a21) + abs(a22)
+    if abs(det) > 1e-9 * s1 * s2:
+        cp = (m * a22 - a12 * c) / det
+        sp = (a11 * c - a21 * m) / det
+        nrm = math.hypot(cp, sp)
+        if abs(nrm - 1.0) > 1e-4:
+            return 0
+        out[0, 0] = cp / nrm
+        out[0, 1] = sp / nrm
+        return 1
+    # rows (nearly) parallel: intersect the elbow row's line with the unit circle (the
+    # candidates are verified on the forward kinematics afterwards)
+    if s1 > 0.0:
+        u, v, w = a11 / s1, a12 / s1, m / s1
+    elif s2 > 0.0:
+        u, v, w = a21 / s2, a22 / s2, c / s2
+    else:
+        return 0
+    nn = u * u + v * v
+    disc = nn - w * w
+    if disc < -1e-9 * nn:
+        return 0
+    root = math.sqrt(max(disc, 0.0))
+    k = 0
+    for sgn in (1.0, -1.0):
+        cp = (u * w - sgn * v * root) / nn
+        sp = (v * w + sgn * u * root) / nn
+        out[k, 0] = cp
+        out[k, 1] = sp
+        k += 1
+        if root == 0.0:
+            break
+    return k
+
+
+@njit
+def _straight_split(q, Q, K, hint, has_hint):
+    """At the straight wrist (theta5 = 0) only theta4 + theta7 is defined: split it nearest to
+    the hint, else with theta4 = 0."""
+    s4 = K[L.SIGN + 3]
+    s7 = K[L.SIGN + 6]
+    total = math.atan2(Q[1, 0], Q[0, 0]) - K[L.DH + 15] - K[L.DH + 27]  # s4 q4 + s7 q7
+    if has_hint:
+        lam = 0.5 * wrap(total - s4 * hint[3] - s7 * hint[5])
+        q[3] = hint[3] + s4 * lam
+        q[5] = hint[5] + s7 * lam
+    else:
+        q[3] = 0.0
+        q[5] = s7 * total
+
+
+@njit
+def _add(q, out, count):
+    """Append ``q`` (wrapped) to ``out[:count]`` unless it is already there."""
+    for i in range(6):
+        q[i] = wrap(q[i])
+    for k in range(count):
+        same = True
+        for i in range(6):
+            if abs(wrap(out[k, i] - q[i])) > DUP_TOL:
+                same = False
+                break
+        if same:
+            return count
+    if count < out.shape[0]:
+        out[count, :] = q
+        count += 1
+    return count
+
+
+@njit
+def _accept(q, Td, K, out, count):
+    """Verify ``q`` on the exact forward kinematics (polishing it if needed) and append it.
+
+    Returns the new count and whether ``q`` is exact (appended now or already there)."""
+    T = np.empty((4, 4))
+    fk_user(q, K, T)
+    dp, dr = residual(T, Td)
+    if dp > K[L.POS_TOL] or dr > K[L.ROT_TOL]:
+        if not polish(q, Td, K, 8):
+            return count, False
+    return _add(q, out, count), True
+
+
+@njit
+def _arm_from_psi(d, rho, cp, sp, pz, th1, K, th):
+    """DH theta1..3 (into ``th``) from the shoulder branch and psi = theta2 + theta3."""
+    a3 = K[L.A3]
+    e1 = K[L.EPS1]
+    e3 = K[L.EPS3]
+    Ld = K[L.D4] + d
+    xx = rho - K[L.A1]
+    xy = e1 * (pz - K[L.D1])
+    ex = xx - a3 * cp - Ld * e3 * sp
+    ey = xy - a3 * sp + Ld * e3 * cp
+    th[0] = th1
+    th[1] = math.atan2(ey, ex)
+    th[2] = math.atan2(sp, cp) - th[1]
+
+
+@njit
+def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count):
+    """Complete DH theta1..3 with the wrist for offset ``d``; accept every exact solution."""
+    M = np.eye(4)
+    chain(th, K, 0, 3, M, L.NDH)
+    Q = np.empty((3, 3))
+    wrist_target(M[:3, :3], R07, K, Q)
+    t5 = theta5_of_d(d, K)
+    q = np.empty(6)
+    for i in range(3):
+        q[i] = user_angle(i, th[i], K)
+    t4_hint = K[L.SIGN + 3] * hint[3] + K[L.DH + 15]
+    if t5 < 1e-6:
+        # straight wrist: one member of the theta4 + theta7 family
+        qs = q.copy()
+        qs[4] = user_angle(4, 0.0, K)
+        _straight_split(qs, Q, K, hint, has_hint)
+        count, exact = _accept(qs, Td, K, out, count)
+        if exact or t5 == 0.0:
+            return count
+    for sgn in (1.0, -1.0):
+        t4, t7 = wrist_ik(Q, sgn * t5, t4_hint, K)
+        qq = q.copy()
+        qq[3] = user_angle(3, t4, K)
+        qq[4] = user_angle(4, sgn * t5, K)
+        qq[5] = user_angle(6, t7, K)
+        count, _ = _accept(qq, Td, K, out, count)
+    return count
+
+
+@njit
+def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count):
+    """Every exact solution whose virtual offset is the root ``d``."""
+    t = K[L.D7] + d
+    px = p[0] - t * a[0]
+    py = p[1] - t * a[1]
+    pz = p[2] - t * a[2]
+    r2 = px * px + py * py
+    b = K[L.B]
+    scale = K[L.SCALE]
+    psi = np.empty((2, 2))
+    th = np.empty(3)
+    if r2 <= (1e-9 * scale) ** 2 and b == 0.0:
+        # P' on axis 1 (shoulder singularity): psi from the elbow condition alone, theta1 from
+        # the bend condition u . a = eps3 (sin psi (c1 ax + s1 ay) - eps1 cos psi az)
+        kw = K[L.KW]
+        cphi = 2.0 * kw * kw / (d * d) - 1.0
+        axy = math.hypot(a[0], a[1])
+        t1h = K[L.SIGN] * hint[0] + K[L.DH + 3]
+        a11, a12, m, a21, a22, c = linear_system(d, 0.0, p, a, K)
+        for k in range(_psi_candidates(a11, a12, m, 0.0, 0.0, 0.0, psi)):
+            cp = psi[k, 0]
+            sp = psi[k, 1]
+            if abs(sp) * axy < 1e-12:
+                _arm_from_psi(d, 0.0, cp, sp, pz, t1h, K, th)
+                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count)
+                continue
+            target = (cphi * K[L.EPS3] + K[L.EPS1] * cp * a[2]) / (sp * axy)
+            if abs(target) > 1.0 + 1e-9:
+                continue
+            base = math.atan2(a[1], a[0])
+            dev = math.acos(max(-1.0, min(1.0, target)))
+            for sg in (1.0, -1.0):
+                _arm_from_psi(d, 0.0, cp, sp, pz, base + sg * dev, K, th)
+                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count)
+        return count
+    s2 = r2 - b * b
+    if s2 < -(1e-9 * scale) ** 2:
+        return count
+    s = math.sqrt(max(s2, 0.0))
+    bp = -K[L.EPS1] * b
+    for sgn in (1.0, -1.0):
+        rho = sgn * s
+        a11, a12, m, a21, a22, c = linear_system(d, rho, p, a, K)
+        n = _psi_candidates(a11, a12, m, a21, a22, c, psi)
+        th1 = math.atan2(rho * py - bp * px, rho * px + bp * py)
+        for k in range(n):
+            _arm_from_psi(d, rho, psi[k, 0], psi[k, 1], pz, th1, K, th)
+            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count)
+        if s == 0.0:
+            break
+    return count
+
+
+@njit
+def _roots(kind, p, a, K, Bm, bnorm, roots):
+    """Every real root of the residual ``kind`` (:func:`ik7r._poly.residual_of`) over the
+    search interval of d, ascending; -1 when it vanishes identically (a continuum)."""
+    n = Bm.shape[0] - 1
+    lo, hi = _interval(K)
+    mid = 0.5 * (lo + hi)
+    half = 0.5 * (hi - lo)
+    vals = np.empty(n + 1)
+    mags = np.empty(n + 1)
+    for j in range(n + 1):
+        vals[j], mags[j] = residual_of(kind, mid + half * math.cos(math.pi * j / n), p, a, K)
+    blo = np.empty(24)
+    bhi = np.empty(24)
+    bsure = np.empty(24, np.bool_)
+    nb = isolate(vals, mags, Bm, bnorm, blo, bhi, bsure)
+    if nb < 0:
+        return -1
+    count = 0
+    found = np.empty(9)
+    for k in range(nb):
+        d0 = mid + half * blo[k]
+        d1 = mid + half * bhi[k]
+        m = refine(kind, d0, d1, p, a, K, found)
+        for i in range(m):
+            if count < roots.shape[0]:
+                roots[count] = min(K[L.DMAX], max(K[L.DMIN], found[i]))
+                count += 1
+    return count
+
+
+@njit
+def _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count):
+    """Axis 7 on axis 1 (P' on axis 1 for every d): theta1 is free. Take it from the hint
+    (else 0) and solve the remaining 1-D problem with the same certified root isolation."""
+    roots = np.empty(48)
+    nr = _roots(1, p, a, K, Bm, bnorm, roots)
+    th1 = K[L.SIGN] * hint[0] + K[L.DH + 3] if has_hint else K[L.DH + 3]
+    psi = np.empty((2, 2))
+    th = np.empty(3)
+    for k in range(max(nr, 0)):
+        d = roots[k]
+        pz = p[2] - (K[L.D7] + d) * a[2]
+        a11, a12, m, a21, a22, c = linear_system(d, 0.0, p, a, K)
+        a21, a22, c = bend_row_on_axis(d, a, K)
+        for k2 in range(_psi_candidates(a11, a12, m, a21, a22, c, psi)):
+            _arm_from_psi(d, 0.0, psi[k2, 0], psi[k2, 1], pz, th1, K, th)
+            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count)
+    return count
+
+
+@njit
+def _interval(K):
+    """The search interval of d: the whole theta5 range, padded by rounding."""
+    pad = 1e-9 * (K[L.DMAX] - K[L.DMIN])
+    return K[L.DMIN] - pad, K[L.DMAX] + pad
+
+
+@njit
+def solve_all(Td, K, Bm, bnorm, hint, has_hint, out):
+    """Every exact solution of the world <- tool target ``Td`` (4, 4) into ``out`` (M, 6).
+
+    Returns the number of solutions (angles wrapped to (-pi, pi], no duplicates). ``hint``
+    (6,) chooses the free joints at singular poses when ``has_hint``.
+    """
+    T07 = np.empty((4, 4))
+    frame07(Td, K, T07)
+    p = T07[:3, 3].copy()
+    a = T07[:3, 2].copy()
+    na = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+    for i in range(3):
+        a[i] /= na
+    R07 = T07[:3, :3].copy()
+    roots = np.empty(48)
+    nr = _roots(0, p, a, K, Bm, bnorm, roots)
+    count = 0
+    if nr < 0:
+        return _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count)
+    last = -1e300
+    for k in range(nr):
+        d = roots[k]
+        if d == last:
+            continue  # the same root twice (clamped to an end of the range)
+        last = d
+        count = _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count)
+    return count
+
+
+@njit
+def solve_all_batch(Ts, K, Bm, bnorm, hints, has_hint, ok_in, out, counts):
+    """:func:`solve_all` for every pose of ``Ts`` (N, 4, 4) whose ``ok_in`` is True."""
+    for i in range(Ts.shape[0]):
+        if ok_in[i]:
+            counts[i] = solve_all(Ts[i], K, Bm, bnorm, hints[i], has_hint, out[i])
+        else:
+            counts[i] = 0

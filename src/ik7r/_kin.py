@@ -1,0 +1,301 @@
+"""Compiled kernels of the exact model: joint mapping, forward kinematics, Jacobian, polishing.
+
+All angles are radians; lengths are in the robot's unit. ``K`` is the parameter vector of
+:mod:`ik7r._layout`. Frames follow Craig's modified Denavit-Hartenberg convention (the
+paper's eq. (1)): ``T_{i-1,i} = RotX(alpha_{i-1}) TransX(a_{i-1}) RotZ(theta_i) TransZ(d_i)``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import _layout as L
+from ._jit import njit
+
+
+@njit
+def dh_angles(q, K, theta):
+    """User joints ``q`` (6,) -> the seven DH angles ``theta`` (7,) (coupling folded in)."""
+    q6 = K[L.MIMIC] * q[4] + K[L.MIMIC + 1]
+    for i in range(5):
+        theta[i] = K[L.SIGN + i] * q[i] + K[L.DH + 4 * i + 3]
+    theta[5] = K[L.SIGN + 5] * q6 + K[L.DH + 23]
+    theta[6] = K[L.SIGN + 6] * q[5] + K[L.DH + 27]
+
+
+@njit
+def user_angle(i, theta_i, K):
+    """DH angle of joint ``i`` (0-based, 0..6 except 5) -> user angle."""
+    return (theta_i - K[L.DH + 4 * i + 3]) * K[L.SIGN + i]
+
+
+@njit
+def _mul44(A, B, out):
+    for i in range(4):
+        for j in range(4):
+            s = 0.0
+            for k in range(4):
+                s += A[i, k] * B[k, j]
+            out[i, j] = s
+
+
+@njit
+def _copy_param44(K, off, out):
+    for i in range(4):
+        for j in range(4):
+            out[i, j] = K[off + 4 * i + j]
+
+
+@njit
+def chain(theta, K, first, last, M, table=L.DH):
+    """Post-multiply ``M`` (4, 4) in place by the DH transforms of joints first..last-1.
+
+    ``table`` selects the exact (``L.DH``) or the nominal (``L.NDH``) DH table.
+    """
+    for i in range(first, last):
+        a = K[table + 4 * i]
+        al = K[table + 4 * i + 1]
+        d = K[table + 4 * i + 2]
+        ca = math.cos(al)
+        sa = math.sin(al)
+        ct = math.cos(theta[i])
+        st = math.sin(theta[i])
+        for r in range(3):
+            x = M[r, 0]
+            y = M[r, 1] * ca + M[r, 2] * sa
+            z = -M[r, 1] * sa + M[r, 2] * ca
+            M[r, 3] += a * x + d * z
+            M[r, 0] = ct * x + st * y
+            M[r, 1] = -st * x + ct * y
+            M[r, 2] = z
+
+
+@njit
+def fk_theta(theta, K, out):
+    """World <- tool transform for DH angles ``theta`` (7,)."""
+    M = np.empty((4, 4))
+    _copy_param44(K, L.BASE, M)
+    chain(theta, K, 0, 7, M)
+    T = np.empty((4, 4))
+    _copy_param44(K, L.TOOL, T)
+    _mul44(M, T, out)
+
+
+@njit
+def fk_user(q, K, out):
+    """World <- tool transform for user joints ``q`` (6,)."""
+    theta = np.empty(7)
+    dh_angles(q, K, theta)
+    fk_theta(theta, K, out)
+
+
+@njit
+def fk_batch(Q, K, out):
+    """``Q`` (N, 6) -> ``out`` (N, 4, 4)."""
+    theta = np.empty(7)
+    M = np.empty((4, 4))
+    Tt = np.empty((4, 4))
+    _copy_param44(K, L.TOOL, Tt)
+    for n in range(Q.shape[0]):
+        dh_angles(Q[n], K, theta)
+        _copy_param44(K, L.BASE, M)
+        chain(theta, K, 0, 7, M)
+        _mul44(M, Tt, out[n])
+
+
+@njit
+def frames_batch(Q, K, out):
+    """``Q`` (N, 6) -> world frames ``out`` (N, 9, 4, 4): base (frame 0), frames 1..7, tool."""
+    theta = np.empty(7)
+    M = np.empty((4, 4))
+    Tt = np.empty((4, 4))
+    _copy_param44(K, L.TOOL, Tt)
+    for n in range(Q.shape[0]):
+        dh_angles(Q[n], K, theta)
+        _copy_param44(K, L.BASE, M)
+        out[n, 0] = M
+        for i in range(7):
+            chain(theta, K, i, i + 1, M)
+            out[n, i + 1] = M
+        _mul44(M, Tt, out[n, 8])
+
+
+@njit
+def jacobian(q, K, J):
+    """Geometric Jacobian (6, 6) of the tool frame in world coordinates.
+
+    Rows: linear velocity of the tool origin, then angular velocity. Columns: the six
+    independent joints; joint 6 is folded into the column of joint 5 through the coupling.
+    """
+    theta = np.empty(7)
+    dh_angles(q, K, theta)
+    M = np.empty((4, 4))
+    _copy_param44(K, L.BASE, M)
+    z = np.empty((7, 3))
+    o = np.empty((7, 3))
+    for i in range(7):
+        chain(theta, K, i, i + 1, M)
+        for r in range(3):
+            z[i, r] = M[r, 2]
+            o[i, r] = M[r, 3]
+    p = np.empty(3)
+    for r in range(3):
+        p[r] = M[r, 3] + M[r, 0] * K[L.TOOL + 3] + M[r, 1] * K[L.TOOL + 7] + M[r, 2] * K[L.TOOL + 11]
+    for c in range(6):
+        for r in range(6):
+            J[r, c] = 0.0
+    for i in range(7):
+        if i == 5:
+            c = 4
+            w = K[L.SIGN + 5] * K[L.MIMIC]
+        else:
+            c = i if i < 5 else 5
+            w = K[L.SIGN + i]
+        dx = p[0] - o[i, 0]
+        dy = p[1] - o[i, 1]
+        dz = p[2] - o[i, 2]
+        J[0, c] += w * (z[i, 1] * dz - z[i, 2] * dy)
+        J[1, c] += w * (z[i, 2] * dx - z[i, 0] * dz)
+        J[2, c] += w * (z[i, 0] * dy - z[i, 1] * dx)
+        J[3, c] += w * z[i, 0]
+        J[4, c] += w * z[i, 1]
+        J[5, c] += w * z[i, 2]
+
+
+@njit
+def rotation_log(R):
+    """Rotation vector (3,) of a rotation matrix (axis * angle), robust near 0 and pi."""
+    w = np.empty(3)
+    tr = R[0, 0] + R[1, 1] + R[2, 2]
+    c = min(1.0, max(-1.0, 0.5 * (tr - 1.0)))
+    vx = R[2, 1] - R[1, 2]
+    vy = R[0, 2] - R[2, 0]
+    vz = R[1, 0] - R[0, 1]
+    s = 0.5 * math.sqrt(vx * vx + vy * vy + vz * vz)
+    ang = math.atan2(s, c)
+    if s > 1e-6 or c > 0.0:
+        f = 0.5 if s < 1e-12 else 0.5 * ang / s
+        w[0] = f * vx
+        w[1] = f * vy
+        w[2] = f * vz
+        return w
+    # angle close to pi: axis from the diagonal of R + I
+    k = 0
+    if R[1, 1] > R[k, k]:
+        k = 1
+    if R[2, 2] > R[k, k]:
+        k = 2
+    ax = np.empty(3)
+    for r in range(3):
+        ax[r] = 0.5 * (R[r, k] + R[k, r])
+    ax[k] = R[k, k] + 1.0
+    n = math.sqrt(ax[0] ** 2 + ax[1] ** 2 + ax[2] ** 2)
+    sgn = 1.0
+    if ax[0] * vx + ax[1] * vy + ax[2] * vz < 0.0:
+        sgn = -1.0
+    for r in range(3):
+        w[r] = sgn * ang * ax[r] / n
+    return w
+
+
+@njit
+def pose_error(T, Td, e):
+    """Error (6,) taking ``T`` to ``Td``: position difference, then world rotation vector."""
+    for r in range(3):
+        e[r] = Td[r, 3] - T[r, 3]
+    Rerr = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            s = 0.0
+            for k in range(3):
+                s += Td[i, k] * T[j, k]
+            Rerr[i, j] = s
+    w = rotation_log(Rerr)
+    e[3] = w[0]
+    e[4] = w[1]
+    e[5] = w[2]
+
+
+@njit
+def residual(T, Td):
+    """(position error, rotation error) between two transforms: norms, robot unit and rad."""
+    dp = 0.0
+    for r in range(3):
+        dp += (T[r, 3] - Td[r, 3]) ** 2
+    # |R - Rd|_F^2 = 8 sin^2(angle / 2), so sqrt(dr / 2) = 2 sin(angle / 2) ~ angle
+    dr = 0.0
+    for i in range(3):
+        for j in range(3):
+            dr += (T[i, j] - Td[i, j]) ** 2
+    return math.sqrt(dp), math.sqrt(0.5 * dr)
+
+
+@njit
+def solve6(A, b, x):
+    """Solve ``A x = b`` (6 x 6) by Gaussian elimination with partial pivoting.
+
+    Returns the smallest pivot magnitude relative to the largest entry of ``A`` (0 when
+    singular); ``A`` and ``b`` are overwritten.
+    """
+    n = 6
+    big = 0.0
+    for i in range(n):
+        for j in range(n):
+            big = max(big, abs(A[i, j]))
+    if big == 0.0:
+        return 0.0
+    small = big
+    for k in range(n):
+        p = k
+        for i in range(k + 1, n):
+            if abs(A[i, k]) > abs(A[p, k]):
+                p = i
+        if A[p, k] == 0.0:
+            return 0.0
+        if p != k:
+            for j in range(n):
+                A[k, j], A[p, j] = A[p, j], A[k, j]
+            b[k], b[p] = b[p], b[k]
+        small = min(small, abs(A[k, k]))
+        for i in range(k + 1, n):
+            f = A[i, k] / A[k, k]
+            for j in range(k, n):
+                A[i, j] -= f * A[k, j]
+            b[i] -= f * b[k]
+    for i in range(n - 1, -1, -1):
+        s = b[i]
+        for j in range(i + 1, n):
+            s -= A[i, j] * x[j]
+        x[i] = s / A[i, i]
+    return small / big
+
+
+@njit
+def polish(q, Td, K, max_iter):
+    """Newton-Raphson on the full forward kinematics from ``q`` (modified in place).
+
+    Returns True when the residual is within the robot's tolerances (``POS_TOL`` in the
+    length unit, ``ROT_TOL`` in rad). Never claims success it did not verify.
+    """
+    T = np.empty((4, 4))
+    J = np.empty((6, 6))
+    e = np.empty(6)
+    dq = np.empty(6)
+    tol_p = K[L.POS_TOL]
+    tol_r = K[L.ROT_TOL]
+    for _ in range(max_iter + 1):
+        fk_user(q, K, T)
+        dp, dr = residual(T, Td)
+        if dp <= tol_p and dr <= tol_r:
+            return True
+        if not (dp < 1e300 and dr < 1e300):
+            return False
+        jacobian(q, K, J)
+        pose_error(T, Td, e)
+        if solve6(J, e, dq) < 1e-14:
+            return False
+        for i in range(6):
+            q[i] += dq[i]
+    return False

@@ -1,0 +1,48 @@
+"""Layout of the flat parameter vector the compiled kernels read.
+
+A :class:`~ik7r.model.Robot` is immutable; its kernels receive one ``float64`` vector
+(built once per robot by :func:`ik7r.model.Robot.kernel_params`) so that every kernel has
+the same short signature. The offsets below name the fields of that vector.
+"""
+
+from __future__ import annotations
+
+# exact model (used by forward kinematics, the Jacobian and polishing)
+DH = 0  # 7 rows x (a_{i-1}, alpha_{i-1}, d_i, theta_offset_i), row-major
+SIGN = 28  # 7 joint signs: theta_dh_i = sign_i * q_i + theta_offset_i
+MIMIC = 35  # q6 = MIMIC[0] * q5 + MIMIC[1]
+BASE = 37  # 4x4 world <- frame 0
+BASE_INV = 53
+TOOL = 69  # 4x4 frame 7 <- tool
+TOOL_INV = 85
+
+# nominal family parameters (used by the virtual-wrist solvers)
+NOM = 101
+A1 = NOM + 0  # shoulder offset a1
+A2 = NOM + 1  # upper arm a2
+A3 = NOM + 2  # elbow offset a3
+B = NOM + 3  # lateral offset d2 + d3
+D1 = NOM + 4  # base height d1
+D4 = NOM + 5  # forearm d4
+EPS1 = NOM + 6  # sign of alpha1 (+-90 deg)
+EPS3 = NOM + 7  # sign of alpha3 (+-90 deg)
+BETA = NOM + 8  # wrist half twist: alphas (-beta, 2 beta, -beta)
+DW = NOM + 9  # wrist offsets d5 = d6
+D7 = NOM + 10  # flange offset d7
+KW = NOM + 11  # dw * cos(beta): the virtual offset d at theta5 = 0
+DMIN = NOM + 12  # search interval for d
+DMAX = NOM + 13
+SB = NOM + 14  # sin(beta)
+DEVIATION = NOM + 15  # largest difference between the nominal and the exact DH table
+PRODUCT = NOM + 16  # 1.0 when the residual needs both shoulder branches (offsets)
+SCALE = NOM + 17  # characteristic length (for relative tolerances)
+POS_TOL = NOM + 18  # accepted position residual, robot length unit
+ROT_TOL = NOM + 19  # accepted rotation residual, rad
+NCHEB = NOM + 20  # degree of the residual polynomial (8 or 16)
+
+LIMITS = NOM + 24  # lower (6) then upper (6), rad, independent joints
+NDH = LIMITS + 12  # the nominal (idealised) DH table, same layout as DH
+SIZE = NDH + 28
+
+# most solutions one pose can have with this formulation (see ik7r.complete)
+MAX_SOLUTIONS = 32

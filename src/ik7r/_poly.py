@@ -1,0 +1,326 @@
+"""The residual polynomial of the virtual-wrist formulation, and certified real-root isolation.
+
+For a pose (frame 0 <- 7: position ``p``, approach ``a``) and a virtual offset ``d`` the
+virtual centre is ``P = p - (d7 + d) a`` and ``L = d4 + d``. A solution needs an arm placing
+P at distance L along axis 4 (the arm-plane unknowns are theta1 and psi = theta2 + theta3)
+with axis 4 at the bend angle ``phi(d)`` from ``a``: ``u . a = cos(phi) = 2 KW^2 / d^2 - 1``.
+With ``rho = +-sqrt(Px^2 + Py^2 - b^2)`` fixing theta1, both remaining conditions are linear in
+``(cos psi, sin psi)`` (see :func:`linear_system`); eliminating psi through
+``cos^2 + sin^2 = 1`` leaves ``F(d, rho) = N1^2 + N2^2 - Det^2 = 0``, a polynomial in d and rho.
+
+* zero shoulder, elbow and lateral offsets: F is even in rho, a polynomial of degree 8 in d
+  (``G = F``); both shoulder branches share each root.
+* otherwise ``G(d) = F(d, rho) F(d, -rho)`` is a polynomial of degree 16 in d.
+
+Every solution's d is a real root of G in ``[KW, KW / cos(2 beta)]``; G has at most 8 (16) of
+them, each giving at most 4 (2) solutions: at most 32 solutions per pose. G is sampled at
+Chebyshev points (exact for a polynomial of that degree), converted to the Bernstein basis,
+and its real roots are isolated by subdivision with Descartes' rule of signs: an interval
+whose Bernstein coefficients all share a sign (beyond their rounding bound) holds no root;
+one with exactly one sign change holds exactly one. Intervals that stay undecided down to
+``WMIN`` (tangential roots, clusters) are all returned as candidates. No root can be missed:
+the only intervals discarded are those proved root-free.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+from functools import cache
+
+import numpy as np
+
+from . import _layout as L
+from ._jit import njit
+
+WMIN = 1e-12  # smallest interval width of the subdivision, in units of the search interval
+MAX_ROOTS = 40
+
+
+@cache
+def bernstein_matrices(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Matrices mapping values at the Chebyshev-Lobatto points ``x_j = cos(pi j / n)`` to
+    (Chebyshev coefficients, Bernstein coefficients on [-1, 1]) of the interpolant of
+    degree n. Computed once in exact rational arithmetic (the Bernstein part)."""
+    j = np.arange(n + 1)
+    C = np.cos(np.pi * np.outer(j, j) / n) * (2.0 / n)
+    C[:, 0] *= 0.5
+    C[:, n] *= 0.5
+    C[0, :] *= 0.5
+    C[n, :] *= 0.5
+    # Bernstein coefficients (on t in [0, 1], x = 2 t - 1) of each Chebyshev polynomial T_k
+    TB = np.zeros((n + 1, n + 1))
+    prev = [Fraction(1)]  # T_0 in powers of t
+    cur = [Fraction(-1), Fraction(2)]  # T_1 = 2 t - 1
+    polys = [prev, cur]
+    for _ in range(2, n + 1):
+        nxt = [Fraction(0)] * (len(cur) + 1)
+        for i, c in enumerate(cur):  # 2 x T_k with x = 2 t - 1
+            nxt[i] += -2 * c
+            nxt[i + 1] += 4 * c
+        for i, c in enumerate(prev):
+            nxt[i] -= c
+        prev, cur = cur, nxt
+        polys.append(cur)
+    binom = [math.comb(n, i) for i in range(n + 1)]
+    for k in range(n + 1):
+        m = polys[k] + [Fraction(0)] * (n + 1 - len(polys[k]))
+        for i in range(n + 1):
+            s = Fraction(0)
+            for jj in range(i + 1):
+                s += Fraction(math.comb(i, jj), binom[jj]) * m[jj]
+            TB[i, k] = float(s)
+    return np.ascontiguousarray(C), np.ascontiguousarray(TB @ C)
+
+
+@njit
+def linear_system(d, rho, p, a, K):
+    """Coefficients of the two conditions linear in ``(cos psi, sin psi)`` at offset ``d`` on the
+    shoulder branch ``rho`` (real, or complex when ``Px^2 + Py^2 < b^2``)::
+
+        a11 cos + a12 sin = m     (elbow: |E - shoulder| = a2)
+        a21 cos + a22 sin = c     (bend: u . a = cos(phi)), multiplied by r^2 d^2
+    """
+    a2 = K[L.A2]
+    a3 = K[L.A3]
+    e1 = K[L.EPS1]
+    e3 = K[L.EPS3]
+    kw = K[L.KW]
+    t = K[L.D7] + d
+    px = p[0] - t * a[0]
+    py = p[1] - t * a[1]
+    pz = p[2] - t * a[2]
+    Ld = K[L.D4] + d
+    r2 = px * px + py * py
+    q = px * a[0] + py * a[1]
+    w = py * a[0] - px * a[1]
+    xx = rho - K[L.A1]
+    xy = e1 * (pz - K[L.D1])
+    m = 0.5 * (xx * xx + xy * xy + a3 * a3 + Ld * Ld - a2 * a2)
+    a11 = a3 * xx - e3 * Ld * xy
+    a12 = a3 * xy + e3 * Ld * xx
+    a21 = -e1 * e3 * a[2] * r2 * d * d
+    a22 = e3 * (rho * q - e1 * K[L.B] * w) * d * d
+    c = (2.0 * kw * kw - d * d) * r2
+    return a11, a12, m, a21, a22, c
+
+
+@njit
+def residual_F(d, rho, p, a, K):
+    """``F = N1^2 + N2^2 - Det^2`` of :func:`linear_system` (zero exactly at solutions), and
+    a bound on the magnitude of its terms (its rounding error is a few ulps of that bound)."""
+    a11, a12, m, a21, a22, c = linear_system(d, rho, p, a, K)
+    return eliminate_psi(a11, a12, m, a21, a22, c)
+
+
+@njit
+def residual_fixed_theta1(d, p, a, K):
+    """F for the continuum case (axis 7 on axis 1, ``a = +-z``): theta1 is free, P' stays on
+    axis 1 (rho = 0) and the bend condition reads ``-eps1 eps3 az cos(psi) = cos(phi)``."""
+    a11, a12, m, a21, a22, c = linear_system(d, 0.0, p, a, K)
+    a21, a22, c = bend_row_on_axis(d, a, K)
+    return eliminate_psi(a11, a12, m, a21, a22, c)
+
+
+@njit
+def bend_row_on_axis(d, a, K):
+    """The bend condition's row when P' is on axis 1 and ``a = +-z``, multiplied by d^2."""
+    kw = K[L.KW]
+    return -K[L.EPS1] * K[L.EPS3] * a[2] * d * d, 0.0, 2.0 * kw * kw - d * d
+
+
+@njit
+def eliminate_psi(a11, a12, m, a21, a22, c):
+    """``N1^2 + N2^2 - Det^2`` of the 2 x 2 system, and the magnitude of its terms."""
+    det = a11 * a22 - a12 * a21
+    n1 = m * a22 - a12 * c
+    n2 = a11 * c - a21 * m
+    mag1 = abs(m * a22) + abs(a12 * c)
+    mag2 = abs(a11 * c) + abs(a21 * m)
+    mag3 = abs(a11 * a22) + abs(a12 * a21)
+    return n1 * n1 + n2 * n2 - det * det, mag1 * mag1 + mag2 * mag2 + mag3 * mag3
+
+
+@njit
+def residual_G(d, p, a, K):
+    """The residual polynomial G(d) (see the module docstring) and a bound on the magnitude
+    of the terms it is computed from."""
+    t = K[L.D7] + d
+    px = p[0] - t * a[0]
+    py = p[1] - t * a[1]
+    s2 = px * px + py * py - K[L.B] * K[L.B]
+    if K[L.PRODUCT] == 0.0:
+        return residual_F(d, math.sqrt(max(s2, 0.0)), p, a, K)
+    if s2 >= 0.0:
+        s = math.sqrt(s2)
+        fp, mp = residual_F(d, s, p, a, K)
+        fm, mm = residual_F(d, -s, p, a, K)
+        return fp * fm, abs(fp) * mm + abs(fm) * mp + mp * mm * 1e-16
+    f, mf = residual_F(d, complex(0.0, math.sqrt(-s2)), p, a, K)
+    return f.real * f.real + f.imag * f.imag, 2.0 * abs(f) * mf + mf * mf * 1e-16
+
+
+@njit
+def residual_of(kind, d, p, a, K):
+    """The residual of the given kind at ``d``: 0 is :func:`residual_G`, 1 is
+    :func:`residual_fixed_theta1` (value, term magnitude)."""
+    if kind == 0:
+        return residual_G(d, p, a, K)
+    return residual_fixed_theta1(d, p, a, K)
+
+
+@njit
+def isolate(values, mags, Bmat, bnorm, blo, bhi, bsure):
+    """Brackets of the real roots in [-1, 1] of the degree-n interpolant of ``values`` (at
+    ``x_j = cos(pi j / n)``).
+
+    ``mags`` bound the magnitude of the terms each value was computed from and ``bnorm`` is
+    the infinity norm of ``Bmat``: together they bound the rounding error ``noise`` of the
+    Bernstein coefficients. Writes brackets ``[blo, bhi]`` (ascending, in x) and returns their
+    number; ``bsure`` is True when the bracket holds exactly one root with a sign change
+    (Descartes' rule of signs), False for an undecided bracket (a tangential root, a cluster,
+    or a stretch where the polynomial is zero within rounding). Returns -1 when all values
+    are zero within rounding (a continuum of solutions). Only intervals proved root-free are
+    discarded.
+    """
+    n = values.shape[0] - 1
+    b = Bmat @ values
+    big = 0.0
+    magmax = 0.0
+    for i in range(n + 1):
+        big = max(big, abs(values[i]))
+        magmax = max(magmax, mags[i])
+    # values err by at most ~16 ulps of their term magnitudes; the conversion multiplies by
+    # at most bnorm
+    noise = 64.0 * 2.220446049250313e-16 * bnorm * magmax
+    if big <= noise:
+        return -1
+    nb = n + 1
+    stack = np.empty((64, nb))
+    lo = np.empty(64)
+    hi = np.empty(64)
+    stack[0, :] = b
+    lo[0] = 0.0
+    hi[0] = 1.0
+    top = 1
+    count = 0
+    left = np.empty(nb)
+    right = np.empty(nb)
+    tmp = np.empty(nb)
+    while top > 0:
+        top -= 1
+        t0 = lo[top]
+        t1 = hi[top]
+        bb = stack[top]
+        npos = 0
+        nneg = 0
+        for i in range(nb):
+            if bb[i] > noise:
+                npos += 1
+            elif bb[i] < -noise:
+                nneg += 1
+        if npos == nb or nneg == nb:
+            continue  # proved root-free
+        sure = False
+        if npos + nneg == nb:
+            var = 0
+            for i in range(nb - 1):
+                if (bb[i] > 0.0) != (bb[i + 1] > 0.0):
+                    var += 1
+            sure = var == 1  # exactly one root (Descartes' rule of signs)
+        if sure or npos + nneg == 0 or t1 - t0 <= WMIN or top + 2 > 64:
+            # a certified root, or an interval where nothing more can be decided
+            if count > 0 and not sure and not bsure[count - 1] and blo[count - 1] <= 2 * t1 - 1:
+                bhi[count - 1] = max(bhi[count - 1], 2 * t1 - 1)  # merge touching brackets
+            elif count < blo.shape[0]:
+                blo[count] = 2 * t0 - 1
+                bhi[count] = 2 * t1 - 1
+                bsure[count] = sure
+                count += 1
+            continue
+        # de Casteljau subdivision at the midpoint
+        for i in range(nb):
+            tmp[i] = bb[i]
+        for r in range(nb):
+            left[r] = tmp[0]
+            right[nb - 1 - r] = tmp[nb - 1 - r]
+            for i in range(nb - 1 - r):
+                tmp[i] = 0.5 * (tmp[i] + tmp[i + 1])
+        tm = 0.5 * (t0 + t1)
+        # push the right half first so that the left half is handled first (ascending roots)
+        stack[top] = right
+        lo[top] = tm
+        hi[top] = t1
+        top += 1
+        stack[top] = left
+        lo[top] = t0
+        hi[top] = tm
+        top += 1
+    return count
+
+
+@njit
+def _illinois(kind, x0, x1, f0, f1, p, a, K):
+    """The root of ``f`` bracketed by [x0, x1] with ``f0``, ``f1`` of opposite signs."""
+    side = 0
+    for _ in range(200):
+        x = (x0 * f1 - x1 * f0) / (f1 - f0)
+        if not (min(x0, x1) < x < max(x0, x1)):
+            x = 0.5 * (x0 + x1)
+        fx = residual_of(kind, x, p, a, K)[0]
+        if fx == 0.0:
+            return x
+        if (fx > 0.0) == (f1 > 0.0):
+            x1, f1 = x, fx
+            if side == -1:
+                f0 *= 0.5
+            side = -1
+        else:
+            x0, f0 = x, fx
+            if side == 1:
+                f1 *= 0.5
+            side = 1
+        if abs(x1 - x0) <= 4e-16 * max(abs(x0), abs(x1)):
+            break
+    return x0 if abs(f0) < abs(f1) else x1
+
+
+@njit
+def refine(kind, d0, d1, p, a, K, out):
+    """Roots of the residual ``kind`` at d (the true residual, not its interpolant) in the bracket [d0, d1].
+
+    Sign changes on a grid of the bracket are refined to full precision; without any, the
+    grid point of least ``|f|`` (a tangential root) is returned, refined to the least ``|f|``.
+    Writes to ``out``, returns the count (at least 1)."""
+    m = 8
+    xs = np.empty(m + 1)
+    fs = np.empty(m + 1)
+    for i in range(m + 1):
+        xs[i] = d0 + (d1 - d0) * i / m
+        fs[i] = residual_of(kind, xs[i], p, a, K)[0]
+    count = 0
+    best = 0
+    for i in range(m + 1):
+        if abs(fs[i]) < abs(fs[best]):
+            best = i
+        if fs[i] == 0.0 and count < out.shape[0]:
+            out[count] = xs[i]
+            count += 1
+        elif i < m and fs[i] * fs[i + 1] < 0.0 and count < out.shape[0]:
+            out[count] = _illinois(kind, xs[i], xs[i + 1], fs[i], fs[i + 1], p, a, K)
+            count += 1
+    if count == 0:
+        # no sign change: the least |f| on the grid, then a golden-section refinement
+        lo = xs[max(0, best - 1)]
+        hi = xs[min(m, best + 1)]
+        g = 0.5 * (math.sqrt(5.0) - 1.0)
+        for _ in range(60):
+            x1 = hi - g * (hi - lo)
+            x2 = lo + g * (hi - lo)
+            if abs(residual_of(kind, x1, p, a, K)[0]) < abs(residual_of(kind, x2, p, a, K)[0]):
+                hi = x2
+            else:
+                lo = x1
+        out[0] = 0.5 * (lo + hi)
+        count = 1
+    return count

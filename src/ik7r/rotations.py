@@ -1,0 +1,147 @@
+"""Small, vectorised helpers for rotations and homogeneous transforms.
+
+Conventions: transforms are ``(..., 4, 4)`` arrays mapping child to parent coordinates
+(``T_A_C = T_A_B @ T_B_C``); roll-pitch-yaw is URDF's fixed-axis X-Y-Z convention,
+``R = Rz(yaw) Ry(pitch) Rx(roll)``; quaternions are ``(w, x, y, z)``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "rot_x",
+    "rot_z",
+    "dh_transform",
+    "rpy_to_matrix",
+    "matrix_to_rpy",
+    "quat_to_matrix",
+    "matrix_to_quat",
+    "transform",
+    "invert",
+    "wrap_angle",
+    "nearest_rotation",
+]
+
+
+def rot_x(angle: np.ndarray | float) -> np.ndarray:
+    """Rotation about x by ``angle`` (rad), shape ``(..., 3, 3)``."""
+    c, s = np.cos(angle), np.sin(angle)
+    o, z = np.ones_like(c), np.zeros_like(c)
+    return np.stack([o, z, z, z, c, -s, z, s, c], axis=-1).reshape(np.shape(c) + (3, 3))
+
+
+def rot_z(angle: np.ndarray | float) -> np.ndarray:
+    """Rotation about z by ``angle`` (rad), shape ``(..., 3, 3)``."""
+    c, s = np.cos(angle), np.sin(angle)
+    o, z = np.ones_like(c), np.zeros_like(c)
+    return np.stack([c, -s, z, s, c, z, z, z, o], axis=-1).reshape(np.shape(c) + (3, 3))
+
+
+def dh_transform(a, alpha, theta, d) -> np.ndarray:
+    """Craig's modified DH transform (the paper's eq. (1)), broadcast over the inputs.
+
+    ``T = RotX(alpha) TransX(a) RotZ(theta) TransZ(d)``; angles in rad, shape ``(..., 4, 4)``.
+    """
+    a, alpha, theta, d = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (a, alpha, theta, d)))
+    ca, sa, ct, st = np.cos(alpha), np.sin(alpha), np.cos(theta), np.sin(theta)
+    z, o = np.zeros_like(a), np.ones_like(a)
+    rows = [ct, -st, z, a, st * ca, ct * ca, -sa, -d * sa, st * sa, ct * sa, ca, d * ca, z, z, z, o]
+    return np.stack(rows, axis=-1).reshape(a.shape + (4, 4))
+
+
+def rpy_to_matrix(rpy) -> np.ndarray:
+    """URDF roll-pitch-yaw (rad, ``(..., 3)``) to a rotation ``Rz(y) Ry(p) Rx(r)`` ``(..., 3, 3)``."""
+    rpy = np.asarray(rpy, dtype=float)
+    r, p, y = rpy[..., 0], rpy[..., 1], rpy[..., 2]
+    cr, sr, cp, sp, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)
+    rows = [
+        cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr,
+        sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr,
+        -sp, cp * sr, cp * cr,
+    ]
+    return np.stack(rows, axis=-1).reshape(r.shape + (3, 3))
+
+
+def matrix_to_rpy(R) -> np.ndarray:
+    """Inverse of :func:`rpy_to_matrix`: ``(..., 3, 3)`` -> ``(..., 3)`` rad (pitch in [-pi/2, pi/2])."""
+    R = np.asarray(R, dtype=float)
+    pitch = np.arctan2(-R[..., 2, 0], np.hypot(R[..., 0, 0], R[..., 1, 0]))
+    gimbal = np.hypot(R[..., 0, 0], R[..., 1, 0]) < 1e-12
+    roll = np.where(gimbal, 0.0, np.arctan2(R[..., 2, 1], R[..., 2, 2]))
+    yaw = np.where(
+        gimbal,
+        np.arctan2(-R[..., 0, 1], R[..., 1, 1]),
+        np.arctan2(R[..., 1, 0], R[..., 0, 0]),
+    )
+    return np.stack([roll, pitch, yaw], axis=-1)
+
+
+def quat_to_matrix(quat) -> np.ndarray:
+    """Unit quaternion ``(w, x, y, z)`` ``(..., 4)`` to rotation ``(..., 3, 3)`` (normalised first)."""
+    q = np.asarray(quat, dtype=float)
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    rows = [
+        1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w),
+        2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
+        2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y),
+    ]
+    return np.stack(rows, axis=-1).reshape(w.shape + (3, 3))
+
+
+def matrix_to_quat(R) -> np.ndarray:
+    """Rotation ``(..., 3, 3)`` to unit quaternion ``(w, x, y, z)`` with ``w >= 0``."""
+    R = np.asarray(R, dtype=float)
+    tr = R[..., 0, 0] + R[..., 1, 1] + R[..., 2, 2]
+    cand = np.stack(
+        [
+            np.stack([1 + tr, R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0],
+                      R[..., 1, 0] - R[..., 0, 1]], -1),
+            np.stack([R[..., 2, 1] - R[..., 1, 2], 1 + 2 * R[..., 0, 0] - tr,
+                      R[..., 0, 1] + R[..., 1, 0], R[..., 0, 2] + R[..., 2, 0]], -1),
+            np.stack([R[..., 0, 2] - R[..., 2, 0], R[..., 0, 1] + R[..., 1, 0],
+                      1 + 2 * R[..., 1, 1] - tr, R[..., 1, 2] + R[..., 2, 1]], -1),
+            np.stack([R[..., 1, 0] - R[..., 0, 1], R[..., 0, 2] + R[..., 2, 0],
+                      R[..., 1, 2] + R[..., 2, 1], 1 + 2 * R[..., 2, 2] - tr], -1),
+        ],
+        axis=-2,
+    )
+    diag = np.stack([tr, R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]], -1)
+    best = np.take_along_axis(cand, np.argmax(diag, -1)[..., None, None], -2)[..., 0, :]
+    q = best / np.linalg.norm(best, axis=-1, keepdims=True)
+    return np.where(q[..., :1] < 0, -q, q)
+
+
+def transform(R=None, p=None) -> np.ndarray:
+    """Homogeneous transform from rotation ``(..., 3, 3)`` and translation ``(..., 3)``."""
+    R = np.eye(3) if R is None else np.asarray(R, dtype=float)
+    p = np.zeros(3) if p is None else np.asarray(p, dtype=float)
+    shape = np.broadcast_shapes(R.shape[:-2], p.shape[:-1])
+    T = np.zeros(shape + (4, 4))
+    T[..., :3, :3] = R
+    T[..., :3, 3] = p
+    T[..., 3, 3] = 1.0
+    return T
+
+
+def invert(T) -> np.ndarray:
+    """Inverse of rigid transforms ``(..., 4, 4)``."""
+    T = np.asarray(T, dtype=float)
+    Rt = np.swapaxes(T[..., :3, :3], -1, -2)
+    return transform(Rt, -np.einsum("...ij,...j->...i", Rt, T[..., :3, 3]))
+
+
+def wrap_angle(x) -> np.ndarray:
+    """Angles wrapped to (-pi, pi]."""
+    y = np.mod(np.asarray(x, dtype=float) + np.pi, 2 * np.pi)
+    y = np.where(y <= 0.0, y + 2 * np.pi, y)
+    return y - np.pi
+
+
+def nearest_rotation(R) -> np.ndarray:
+    """The proper rotation nearest ``R`` (..., 3, 3) in the Frobenius norm (polar factor)."""
+    U, _, Vt = np.linalg.svd(np.asarray(R, dtype=float))
+    D = np.ones(U.shape[:-1])
+    D[..., -1] = np.sign(np.linalg.det(U @ Vt))
+    return (U * D[..., None, :]) @ Vt
