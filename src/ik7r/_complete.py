@@ -25,7 +25,6 @@ from ._poly import (
     isolate,
     linear_system,
     refine,
-    residual_of,
 )
 from ._wrist import theta5_of_d, wrist_ik, wrist_target
 
@@ -253,26 +252,17 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count):
 def _roots(kind, p, a, K, Bm, bnorm, roots):
     """Every real root of the residual ``kind`` (:func:`ik7r._poly.residual_of`) over the
     search interval of d, ascending; -1 when it vanishes identically (a continuum)."""
-    n = Bm.shape[0] - 1
     lo, hi = _interval(K)
-    mid = 0.5 * (lo + hi)
-    half = 0.5 * (hi - lo)
-    vals = np.empty(n + 1)
-    mags = np.empty(n + 1)
-    for j in range(n + 1):
-        vals[j], mags[j] = residual_of(kind, mid + half * math.cos(math.pi * j / n), p, a, K)
     blo = np.empty(24)
     bhi = np.empty(24)
     bsure = np.empty(24, np.bool_)
-    nb = isolate(vals, mags, Bm, bnorm, blo, bhi, bsure)
+    nb = isolate(kind, lo, hi, p, a, K, Bm, bnorm, blo, bhi, bsure)
     if nb < 0:
         return -1
     count = 0
     found = np.empty(9)
     for k in range(nb):
-        d0 = mid + half * blo[k]
-        d1 = mid + half * bhi[k]
-        m = refine(kind, d0, d1, p, a, K, found)
+        m = refine(kind, blo[k], bhi[k], p, a, K, found)
         for i in range(m):
             if count < roots.shape[0]:
                 roots[count] = min(K[L.DMAX], max(K[L.DMIN], found[i]))

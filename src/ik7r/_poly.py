@@ -170,36 +170,56 @@ def residual_of(kind, d, p, a, K):
 
 
 @njit
-def isolate(values, mags, Bmat, bnorm, blo, bhi, bsure):
-    """Brackets of the real roots in [-1, 1] of the degree-n interpolant of ``values`` (at
-    ``x_j = cos(pi j / n)``).
+def _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b):
+    """Bernstein coefficients ``b`` of the residual ``kind`` on [d0, d1], sampled at the
+    Chebyshev points of that interval; returns (rounding bound of b, max |value|)."""
+    n = Bmat.shape[0] - 1
+    vals = np.empty(n + 1)
+    magmax = 0.0
+    big = 0.0
+    for j in range(n + 1):
+        d = 0.5 * (d0 + d1) + 0.5 * (d1 - d0) * math.cos(math.pi * j / n)
+        vals[j], mag = residual_of(kind, d, p, a, K)
+        magmax = max(magmax, mag)
+        big = max(big, abs(vals[j]))
+    for i in range(n + 1):
+        s = 0.0
+        for j in range(n + 1):
+            s += Bmat[i, j] * vals[j]
+        b[i] = s
+    # each value errs by at most ~16 ulps of its term magnitude; the conversion multiplies the
+    # errors by at most bnorm
+    return 64.0 * 2.220446049250313e-16 * bnorm * magmax, big
 
-    ``mags`` bound the magnitude of the terms each value was computed from and ``bnorm`` is
-    the infinity norm of ``Bmat``: together they bound the rounding error ``noise`` of the
-    Bernstein coefficients. Writes brackets ``[blo, bhi]`` (ascending, in x) and returns their
-    number; ``bsure`` is True when the bracket holds exactly one root with a sign change
-    (Descartes' rule of signs), False for an undecided bracket (a tangential root, a cluster,
-    or a stretch where the polynomial is zero within rounding). Returns -1 when all values
-    are zero within rounding (a continuum of solutions). Only intervals proved root-free are
+
+@njit
+def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure):
+    """Brackets of every real root of the residual ``kind`` on [d0, d1].
+
+    The residual is a polynomial of degree n (``Bmat`` is (n+1, n+1)): its interpolant at n+1
+    Chebyshev points is exact. Intervals are subdivided (de Casteljau) and, where the rounding
+    bound of the Bernstein coefficients leaves an interval undecided, re-sampled on that
+    interval (the bound is then local). An interval whose coefficients all exceed the bound
+    with one sign is root-free; one with exactly one sign change holds exactly one root
+    (Descartes' rule of signs). Writes brackets ``[blo, bhi]`` (ascending, in d) and returns
+    their number; ``bsure`` is False for brackets no longer than ``WMIN`` that stayed
+    undecided (a tangential root or a cluster). Returns -1 when the residual is zero within
+    rounding everywhere (a continuum of solutions). Only intervals proved root-free are
     discarded.
     """
-    n = values.shape[0] - 1
-    b = Bmat @ values
-    big = 0.0
-    magmax = 0.0
-    for i in range(n + 1):
-        big = max(big, abs(values[i]))
-        magmax = max(magmax, mags[i])
-    # values err by at most ~16 ulps of their term magnitudes; the conversion multiplies by
-    # at most bnorm
-    noise = 64.0 * 2.220446049250313e-16 * bnorm * magmax
-    if big <= noise:
-        return -1
+    n = Bmat.shape[0] - 1
     nb = n + 1
     stack = np.empty((64, nb))
+    noise = np.empty(64)
+    fresh = np.empty(64, np.bool_)
     lo = np.empty(64)
     hi = np.empty(64)
+    b = np.empty(nb)
+    noise[0], big = _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b)
+    if big <= noise[0]:
+        return -1
     stack[0, :] = b
+    fresh[0] = True
     lo[0] = 0.0
     hi[0] = 1.0
     top = 1
@@ -207,20 +227,39 @@ def isolate(values, mags, Bmat, bnorm, blo, bhi, bsure):
     left = np.empty(nb)
     right = np.empty(nb)
     tmp = np.empty(nb)
+    width = d1 - d0
     while top > 0:
         top -= 1
         t0 = lo[top]
         t1 = hi[top]
         bb = stack[top]
+        nz = noise[top]
         npos = 0
         nneg = 0
         for i in range(nb):
-            if bb[i] > noise:
+            if bb[i] > nz:
                 npos += 1
-            elif bb[i] < -noise:
+            elif bb[i] < -nz:
                 nneg += 1
         if npos == nb or nneg == nb:
             continue  # proved root-free
+        if npos + nneg < nb and not fresh[top] and t1 - t0 > WMIN:
+            # undecided by the inherited bound: sample this interval afresh
+            noise[top], _ = _bernstein(kind, d0 + width * t0, d0 + width * t1, p, a, K, Bmat,
+                                       bnorm, b)
+            stack[top, :] = b
+            fresh[top] = True
+            top += 1
+            continue
+        if npos + nneg == 0:
+            # zero within rounding over the whole (freshly sampled) interval: nothing more
+            # can be decided here; hand it to refine() as one undecided bracket
+            if count < blo.shape[0]:
+                blo[count] = d0 + width * t0
+                bhi[count] = d0 + width * t1
+                bsure[count] = False
+                count += 1
+            continue
         sure = False
         if npos + nneg == nb:
             var = 0
@@ -228,13 +267,10 @@ def isolate(values, mags, Bmat, bnorm, blo, bhi, bsure):
                 if (bb[i] > 0.0) != (bb[i + 1] > 0.0):
                     var += 1
             sure = var == 1  # exactly one root (Descartes' rule of signs)
-        if sure or npos + nneg == 0 or t1 - t0 <= WMIN or top + 2 > 64:
-            # a certified root, or an interval where nothing more can be decided
-            if count > 0 and not sure and not bsure[count - 1] and blo[count - 1] <= 2 * t1 - 1:
-                bhi[count - 1] = max(bhi[count - 1], 2 * t1 - 1)  # merge touching brackets
-            elif count < blo.shape[0]:
-                blo[count] = 2 * t0 - 1
-                bhi[count] = 2 * t1 - 1
+        if sure or t1 - t0 <= WMIN or top + 2 > 64:
+            if count < blo.shape[0]:
+                blo[count] = d0 + width * t0
+                bhi[count] = d0 + width * t1
                 bsure[count] = sure
                 count += 1
             continue
@@ -249,10 +285,14 @@ def isolate(values, mags, Bmat, bnorm, blo, bhi, bsure):
         tm = 0.5 * (t0 + t1)
         # push the right half first so that the left half is handled first (ascending roots)
         stack[top] = right
+        noise[top] = nz
+        fresh[top] = False
         lo[top] = tm
         hi[top] = t1
         top += 1
         stack[top] = left
+        noise[top] = nz
+        fresh[top] = False
         lo[top] = t0
         hi[top] = tm
         top += 1

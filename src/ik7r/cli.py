@@ -1,0 +1,73 @@
+"""The ``ik7r`` command line: degrees and millimetres (the robot file's unit) at the prompt.
+
+Exit status: 0 success; 1 a pose with no solution; 2 bad input (one line on stderr, no
+traceback). Each subcommand lives in :mod:`ik7r.commands` (one module per command).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from .commands import COMMANDS
+
+
+class CliError(Exception):
+    """Bad input at the command line: reported in one line, exit status 2."""
+
+
+class NoSolution(Exception):
+    """The pose has no solution: reported in one line, exit status 1."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str):  # one line, exit status 2
+        raise CliError(f"{self.prog}: {message}")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="ik7r", description="Exact, complete and fast kinematics for 7R 6-DOF "
+                     "painting robots with a coupled hollow wrist.")
+    parser.add_argument("--robot", default=None, metavar="NAME|PATH",
+                        help="built-in robot name (paper, irb5400) or a .toml / .urdf file "
+                             "(default: the paper's robot)")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    for name in COMMANDS:
+        module = importlib.import_module(f"ik7r.commands.{name}")
+        module.add_parser(sub)
+    return parser
+
+
+def load_cli_robot(args):
+    """The robot named by ``--robot`` (CliError on a missing or malformed file)."""
+    from .robotfile import load_robot
+
+    try:
+        return load_robot(args.robot)
+    except (FileNotFoundError, ValueError) as exc:
+        raise CliError(str(exc)) from exc
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``ik7r`` console script."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help()
+            return 2
+        return int(args.run(args) or 0)
+    except CliError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except NoSolution as exc:
+        print(f"no solution: {exc}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
