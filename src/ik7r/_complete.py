@@ -26,7 +26,7 @@ from ._poly import (
     linear_system,
     refine,
 )
-from ._wrist import theta5_of_d, wrist_ik, wrist_target
+from ._wrist import theta5_of_bend, theta5_of_d, wrist_ik, wrist_target
 
 TWO_PI = 2.0 * math.pi
 DUP_TOL = 1e-7  # two solutions closer than this (rad, every joint) are one
@@ -182,7 +182,21 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count):
         qs[4] = user_angle(4, 0.0, K)
         _straight_split(qs, Q, K, hint, has_hint)
         count, exact = _accept(qs, Td, K, out, count)
-        if exact or t5 == 0.0:
+        if exact:
+            return count
+        # nearly straight: theta5 from the bend itself (d is flat in theta5 at zero)
+        t5 = theta5_of_bend(Q, K)
+        if t5 == 0.0:
+            return count
+    if math.pi - t5 < 1e-6:
+        # fully bent wrist: the two wrist solutions merge into one, at theta5 = pi exactly
+        t4, t7 = wrist_ik(Q, math.pi, t4_hint, K)
+        qf = q.copy()
+        qf[3] = user_angle(3, t4, K)
+        qf[4] = user_angle(4, math.pi, K)
+        qf[5] = user_angle(6, t7, K)
+        count, exact = _accept(qf, Td, K, out, count)
+        if exact:
             return count
     for sgn in (1.0, -1.0):
         t4, t7 = wrist_ik(Q, sgn * t5, t4_hint, K)

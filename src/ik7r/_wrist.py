@@ -47,6 +47,16 @@ def theta5_of_cos_bend(c, K):
 
 
 @njit
+def theta5_of_bend(Q, K):
+    """The non-negative theta5 (rad) of the bend of the wrist target ``Q`` (3, 3), accurate
+    for small bends too (the bend from its sine and cosine, not from the cosine alone)."""
+    phi = math.atan2(math.hypot(Q[0, 2], Q[1, 2]), Q[2, 2])
+    x = math.sin(0.25 * phi) / K[L.SB]
+    x = min(1.0, max(0.0, x))
+    return 2.0 * math.asin(x)
+
+
+@njit
 def wrist_rotation(t5, K, W):
     """``W = RotX(-beta) RotZ(t5) RotX(2 beta) RotZ(-t5) RotX(-beta)`` (3, 3): frame 4 <- 7."""
     W[0, 0] = 1.0

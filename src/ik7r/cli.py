@@ -10,7 +10,8 @@ import argparse
 import importlib
 import sys
 
-from .commands import COMMANDS
+from .commands import command_modules
+from .errors import UnreachableError
 
 
 class CliError(Exception):
@@ -33,7 +34,7 @@ def build_parser() -> argparse.ArgumentParser:
                         help="built-in robot name (paper, irb5400) or a .toml / .urdf file "
                              "(default: the paper's robot)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
-    for name in COMMANDS:
+    for name in command_modules():
         module = importlib.import_module(f"ik7r.commands.{name}")
         module.add_parser(sub)
     return parser
@@ -64,10 +65,12 @@ def main(argv: list[str] | None = None) -> int:
     except NoSolution as exc:
         print(f"no solution: {exc}", file=sys.stderr)
         return 1
+    except UnreachableError as exc:
+        print(f"no solution: {exc}", file=sys.stderr)
+        return 1
+    except (ValueError, FileNotFoundError) as exc:  # the library's own input checks
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
-
-
-if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())

@@ -140,6 +140,18 @@ class Robot:
         """A copy whose base is ``T_world_base`` (4, 4), world <- frame 0."""
         return self.replace(base=np.asarray(T_world_base, dtype=float))
 
+    def to_toml(self) -> str:
+        """The robot as the text of a TOML robot file (see :func:`ik7r.robotfile.robot_to_toml`)."""
+        from .robotfile import robot_to_toml
+
+        return robot_to_toml(self)
+
+    def to_urdf(self) -> str:
+        """The robot as the text of a URDF with a ``<mimic>`` joint (see :mod:`ik7r.urdf`)."""
+        from .urdf import robot_to_urdf
+
+        return robot_to_urdf(self)
+
     def __repr__(self) -> str:
         return f"Robot(name={self.name!r}, unit={self.unit!r})"
 
