@@ -166,6 +166,20 @@ def test_folded_wrist_theta5_pi_returned_once(robot):
     assert angle_distance(a, b) < 1e-12
 
 
+def test_folded_wrist_no_near_duplicates(robot):
+    """Near theta5 = pi the FK is flat in theta5: nearly folded shadows must merge into one."""
+    rng = np.random.default_rng(21)
+    for _ in range(150):
+        q = random_full_q(rng, 1)[0]
+        q[4] = np.pi * rng.choice([-1, 1])
+        T = robot.fk(q)
+        sols = robot.ik_all(T)
+        _check_exact_and_distinct(sols, T)
+        near = np.abs(wrap(sols[:, None, :] - sols[None, :, :])).max(axis=-1) + np.eye(len(sols))
+        assert near.min() > 1e-4, "near-duplicate solutions at a folded wrist"
+        assert angle_distance(sols, q).min() < 1e-9
+
+
 def test_shoulder_singularity_theta1_from_seed(robot):
     # the virtual wrist centre on axis 1: choose q2, q3 to put it there
     q = np.radians([25.0, 0.0, 0.0, 0.0, 0.0, 0.0])

@@ -32,6 +32,10 @@ TWO_PI = 2.0 * math.pi
 DUP_TOL = 1e-7  # two solutions closer than this (rad, every joint) are one
 
 
+#: Window (rad) around theta5 = pi where nearly folded solutions merge into the folded one.
+FOLD_WINDOW = 1e-4
+
+
 @njit
 def wrap(x):
     """Angle wrapped to (-pi, pi]."""
@@ -176,7 +180,7 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count):
     for i in range(3):
         q[i] = user_angle(i, th[i], K)
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.DH + 15]
-    if t5 < 1e-6:
+    if t5 < 1e-4:
         # straight wrist: one member of the theta4 + theta7 family
         qs = q.copy()
         qs[4] = user_angle(4, 0.0, K)
@@ -188,7 +192,7 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count):
         t5 = theta5_of_bend(Q, K)
         if t5 == 0.0:
             return count
-    if math.pi - t5 < 1e-6:
+    if math.pi - t5 < 1e-4:
         # fully bent wrist: the two wrist solutions merge into one, at theta5 = pi exactly
         t4, t7 = wrist_ik(Q, math.pi, t4_hint, K)
         qf = q.copy()
@@ -332,13 +336,43 @@ def solve_all(Td, K, Bm, bnorm, hint, has_hint, out):
     if nr < 0:
         return _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count)
     last = -1e300
+    folded = False
     for k in range(nr):
         d = roots[k]
         if d == last:
             continue  # the same root twice (clamped to an end of the range)
         last = d
+        if not folded and math.pi - theta5_of_d(d, K) < FOLD_WINDOW:
+            # near theta5 = pi the residual is flat: try the folded wrist's own d first
+            folded = True
+            count = _solutions_at(K[L.DMAX], p, a, R07, Td, K, hint, has_hint, out, count)
         count = _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count)
+    if folded:
+        count = _merge_folded(out, count)
     return count
+
+
+@njit
+def _merge_folded(out, count):
+    """Drop solutions within FOLD_WINDOW (every joint) of an exact fully bent one (theta5 = pi):
+    there the FK is flat in theta5, and what remains are shadows of the one merged solution."""
+    keep = 0
+    for s in range(count):
+        shadow = False
+        if out[s, 4] != math.pi and math.pi - abs(out[s, 4]) < FOLD_WINDOW:
+            for e in range(count):
+                if out[e, 4] == math.pi:
+                    dist = 0.0
+                    for j in range(6):
+                        dist = max(dist, abs(wrap(out[s, j] - out[e, j])))
+                    if dist < FOLD_WINDOW:
+                        shadow = True
+                        break
+        if not shadow:
+            for j in range(6):
+                out[keep, j] = out[s, j]
+            keep += 1
+    return keep
 
 
 @njit
