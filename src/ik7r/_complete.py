@@ -21,10 +21,13 @@ from . import _layout as L
 from ._jit import njit
 from ._kin import chain, fk_user, polish, residual, user_angle
 from ._poly import (
+    REFINE_GRID,
+    _golden,
     bend_row_on_axis,
     isolate,
     linear_system,
     refine,
+    residual_of,
 )
 from ._wrist import theta5_of_bend, theta5_of_d, wrist_ik, wrist_target
 
@@ -32,6 +35,14 @@ TWO_PI = 2.0 * math.pi
 DUP_TOL = 1e-7  # two solutions closer than this (rad, every joint) are one
 
 
+#: Most candidate roots of one pose: every bracket (24) may give REFINE_GRID + 2 candidates.
+ROOT_CAP = 24 * (REFINE_GRID + 2)
+#: Start (rad) off a singular wrist for polishing models that deviate from the idealised one.
+NEAR_SINGULAR = 2e-3
+#: Near-miss scan of deviating models: grid size, and how close to zero (relative to the
+#: magnitude of the residual's terms) a local minimum of |residual| must come.
+NEAR_GRID = 64
+NEAR_RATIO = 1e-2
 #: Window (rad) around theta5 = pi where nearly folded solutions merge into the folded one.
 FOLD_WINDOW = 1e-4
 
@@ -147,7 +158,7 @@ def _accept(q, Td, K, out, count):
     fk_user(q, K, T)
     dp, dr = residual(T, Td)
     if dp > K[L.POS_TOL] or dr > K[L.ROT_TOL]:
-        if not polish(q, Td, K, 8):
+        if not polish(q, Td, K, 8 if K[L.DEVIATION] == 0.0 else 30):
             return count, False
     return _add(q, out, count), True
 
@@ -202,13 +213,28 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count):
         count, exact = _accept(qf, Td, K, out, count)
         if exact:
             return count
+    # a model that is not exactly the idealised one (rounded published numbers): a start on
+    # the singular fold or straight wrist would stall Newton's polish; start just inside
+    t5_alt = -1.0
+    if K[L.DEVIATION] > 0.0:
+        if math.pi - t5 < NEAR_SINGULAR:
+            t5_alt = math.pi - NEAR_SINGULAR
+        elif t5 < NEAR_SINGULAR:
+            t5_alt = NEAR_SINGULAR
     for sgn in (1.0, -1.0):
         t4, t7 = wrist_ik(Q, sgn * t5, t4_hint, K)
         qq = q.copy()
         qq[3] = user_angle(3, t4, K)
         qq[4] = user_angle(4, sgn * t5, K)
         qq[5] = user_angle(6, t7, K)
-        count, _ = _accept(qq, Td, K, out, count)
+        count, exact = _accept(qq, Td, K, out, count)
+        if not exact and t5_alt > 0.0:
+            t4, t7 = wrist_ik(Q, sgn * t5_alt, t4_hint, K)
+            qq[:3] = q[:3]
+            qq[3] = user_angle(3, t4, K)
+            qq[4] = user_angle(4, sgn * t5_alt, K)
+            qq[5] = user_angle(6, t7, K)
+            count, _ = _accept(qq, Td, K, out, count)
     return count
 
 
@@ -278,13 +304,46 @@ def _roots(kind, p, a, K, Bm, bnorm, roots):
     if nb < 0:
         return -1
     count = 0
-    found = np.empty(9)
+    found = np.empty(REFINE_GRID + 2)
     for k in range(nb):
-        m = refine(kind, blo[k], bhi[k], p, a, K, found)
+        m = refine(kind, blo[k], bhi[k], bsure[k], p, a, K, found)
         for i in range(m):
             if count < roots.shape[0]:
-                roots[count] = min(K[L.DMAX], max(K[L.DMIN], found[i]))
+                # u -> d; for a model that deviates from the idealised one a root just outside
+                # the range stays where it is (its arm exists there; theta5 is clamped to 0 or pi)
+                u = found[i]
+                if K[L.DEVIATION] == 0.0:
+                    u = min(1.0, max(_u_fold(K), u))
+                if abs(u) < 1e-12:
+                    continue  # the folded wrist of a 45 deg twist (d at infinity): see solve_all
+                roots[count] = K[L.KW] / u
                 count += 1
+    if K[L.DEVIATION] > 0.0:
+        count = _near_misses(kind, lo, hi, p, a, K, roots, count)
+    return count
+
+
+@njit
+def _near_misses(kind, lo, hi, p, a, K, roots, count):
+    """Extra candidates for a model that deviates from the idealised one: local minima of
+    |residual| that come close to zero without crossing it. A pair of nearby roots of the
+    idealised residual can vanish (turn complex) under the deviation while the exact model
+    keeps its two solutions there; Newton's polish from the minimum finds them."""
+    m = NEAR_GRID
+    fs = np.empty(m + 1)
+    ms = np.empty(m + 1)
+    for i in range(m + 1):
+        fs[i], ms[i] = residual_of(kind, lo + (hi - lo) * i / m, p, a, K)
+    for i in range(1, m):
+        fa = abs(fs[i])
+        if (fa <= abs(fs[i - 1]) and fa <= abs(fs[i + 1]) and fs[i - 1] * fs[i] > 0.0
+                and fs[i] * fs[i + 1] > 0.0 and fa < NEAR_RATIO * ms[i] and count < roots.shape[0]):
+            u = _golden(kind, lo + (hi - lo) * (i - 1) / m, lo + (hi - lo) * (i + 1) / m, p, a, K)
+            h = 0.5 * (hi - lo) / m
+            for v in (u, u - h, u + h):  # the minimum and starts on either side of it
+                if abs(v) > 1e-12 and count < roots.shape[0]:
+                    roots[count] = K[L.KW] / v
+                    count += 1
     return count
 
 
@@ -292,7 +351,7 @@ def _roots(kind, p, a, K, Bm, bnorm, roots):
 def _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count):
     """Axis 7 on axis 1 (P' on axis 1 for every d): theta1 is free. Take it from the hint
     (else 0) and solve the remaining 1-D problem with the same certified root isolation."""
-    roots = np.empty(48)
+    roots = np.empty(ROOT_CAP)
     nr = _roots(1, p, a, K, Bm, bnorm, roots)
     th1 = K[L.SIGN] * hint[0] + K[L.DH + 3] if has_hint else K[L.DH + 3]
     psi = np.empty((2, 2))
@@ -309,10 +368,22 @@ def _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count):
 
 
 @njit
+def _u_fold(K):
+    """``u = KW / d`` of the fully bent wrist (theta5 = pi): ``cos(2 beta)``."""
+    return 1.0 - 2.0 * K[L.SB] * K[L.SB]
+
+
+@njit
 def _interval(K):
-    """The search interval of d: the whole theta5 range, padded by rounding."""
-    pad = 1e-9 * (K[L.DMAX] - K[L.DMIN])
-    return K[L.DMIN] - pad, K[L.DMAX] + pad
+    """The search interval of ``u = KW / d = cos(phi / 2)``: the whole theta5 range (u = 1 at
+    the straight wrist, cos(2 beta) fully bent), padded by rounding."""
+    lo = _u_fold(K)
+    pad = 1e-9 * (1.0 - lo)
+    if K[L.DEVIATION] > 0.0:
+        # the exact model's solutions near the ends of the range may come from nominal roots
+        # just outside it (kept there, then polished on the exact model)
+        pad = 0.02 * (1.0 - lo)
+    return lo - pad, 1.0 + pad
 
 
 @njit
@@ -330,7 +401,7 @@ def solve_all(Td, K, Bm, bnorm, hint, has_hint, out):
     for i in range(3):
         a[i] /= na
     R07 = T07[:3, :3].copy()
-    roots = np.empty(48)
+    roots = np.empty(ROOT_CAP)
     nr = _roots(0, p, a, K, Bm, bnorm, roots)
     count = 0
     if nr < 0:
@@ -342,7 +413,7 @@ def solve_all(Td, K, Bm, bnorm, hint, has_hint, out):
         if d == last:
             continue  # the same root twice (clamped to an end of the range)
         last = d
-        if not folded and math.pi - theta5_of_d(d, K) < FOLD_WINDOW:
+        if not folded and _u_fold(K) > 1e-9 and math.pi - theta5_of_d(d, K) < FOLD_WINDOW:
             # near theta5 = pi the residual is flat: try the folded wrist's own d first
             folded = True
             count = _solutions_at(K[L.DMAX], p, a, R07, Td, K, hint, has_hint, out, count)

@@ -14,6 +14,9 @@ import numpy as np
 from . import _layout as L
 from ._jit import njit
 
+#: Largest joint step (rad) of one Newton iteration of the polish.
+MAX_POLISH_STEP = 0.1
+
 
 @njit
 def dh_angles(q, K, theta):
@@ -279,10 +282,12 @@ def polish(q, Td, K, max_iter):
     Returns True when the residual is within the robot's tolerances (``POS_TOL`` in the
     length unit, ``ROT_TOL`` in rad). Never claims success it did not verify.
     """
-    T = np.empty((4, 4))
-    J = np.empty((6, 6))
-    e = np.empty(6)
-    dq = np.empty(6)
+    return polish_into(q, Td, K, max_iter, np.empty((4, 4)), np.empty((6, 6)), np.empty(6), np.empty(6))
+
+
+@njit
+def polish_into(q, Td, K, max_iter, T, J, e, dq):
+    """:func:`polish` with caller-provided work arrays ``T`` (4, 4), ``J`` (6, 6), ``e``, ``dq`` (6,)."""
     tol_p = K[L.POS_TOL]
     tol_r = K[L.ROT_TOL]
     for _ in range(max_iter + 1):
@@ -296,6 +301,11 @@ def polish(q, Td, K, max_iter):
         pose_error(T, Td, e)
         if solve6(J, e, dq) < 1e-14:
             return False
+        # a limited step keeps the polish on the solution it started near
+        big = 0.0
         for i in range(6):
-            q[i] += dq[i]
+            big = max(big, abs(dq[i]))
+        f = 1.0 if big <= MAX_POLISH_STEP else MAX_POLISH_STEP / big
+        for i in range(6):
+            q[i] += f * dq[i]
     return False

@@ -35,6 +35,7 @@ from ._jit import njit
 
 WMIN = 1e-12  # smallest interval width of the subdivision, in units of the search interval
 MAX_ROOTS = 40
+REFINE_GRID = 32  # grid of an undecided bracket: sign changes and local minima of |f|
 
 
 @cache
@@ -161,12 +162,26 @@ def residual_G(d, p, a, K):
 
 
 @njit
-def residual_of(kind, d, p, a, K):
+def residual_of_d(kind, d, p, a, K):
     """The residual of the given kind at ``d``: 0 is :func:`residual_G`, 1 is
     :func:`residual_fixed_theta1` (value, term magnitude)."""
     if kind == 0:
         return residual_G(d, p, a, K)
     return residual_fixed_theta1(d, p, a, K)
+
+
+@njit
+def residual_of(kind, u, p, a, K):
+    """The residual in the search variable ``u = KW / d = cos(phi / 2)`` (value, term magnitude).
+
+    ``u^n G(KW / u)`` is a polynomial of the same degree n in u, and u runs over the bounded
+    interval ``[cos(2 beta), 1]`` for every wrist twist up to 45 deg (where d is unbounded).
+    """
+    if abs(u) < 1e-12:
+        u = math.copysign(1e-12, u)
+    v, m = residual_of_d(kind, K[L.KW] / u, p, a, K)
+    scale = u ** K[L.NCHEB]
+    return v * scale, m * abs(scale)
 
 
 @njit
@@ -190,6 +205,24 @@ def _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b):
     # each value errs by at most ~16 ulps of its term magnitude; the conversion multiplies the
     # errors by at most bnorm
     return 64.0 * 2.220446049250313e-16 * bnorm * magmax, big
+
+
+@njit
+def _emit(blo, bhi, bsure, count, x0, x1, sure):
+    """Append the bracket [x0, x1] (brackets come in ascending order). Undecided brackets
+    that touch the previous undecided one are merged with it; when the storage is full the
+    last bracket is extended instead (and marked undecided): nothing is ever dropped."""
+    if count > 0 and not sure and not bsure[count - 1] and x0 - bhi[count - 1] <= 1e-12 * (abs(x0) + 1.0):
+        bhi[count - 1] = x1
+        return count
+    if count == blo.shape[0]:
+        bhi[count - 1] = x1
+        bsure[count - 1] = False
+        return count
+    blo[count] = x0
+    bhi[count] = x1
+    bsure[count] = sure
+    return count + 1
 
 
 @njit
@@ -254,11 +287,7 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure):
         if npos + nneg == 0:
             # zero within rounding over the whole (freshly sampled) interval: nothing more
             # can be decided here; hand it to refine() as one undecided bracket
-            if count < blo.shape[0]:
-                blo[count] = d0 + width * t0
-                bhi[count] = d0 + width * t1
-                bsure[count] = False
-                count += 1
+            count = _emit(blo, bhi, bsure, count, d0 + width * t0, d0 + width * t1, False)
             continue
         sure = False
         if npos + nneg == nb:
@@ -268,11 +297,7 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure):
                     var += 1
             sure = var == 1  # exactly one root (Descartes' rule of signs)
         if sure or t1 - t0 <= WMIN or top + 2 > 64:
-            if count < blo.shape[0]:
-                blo[count] = d0 + width * t0
-                bhi[count] = d0 + width * t1
-                bsure[count] = sure
-                count += 1
+            count = _emit(blo, bhi, bsure, count, d0 + width * t0, d0 + width * t1, sure)
             continue
         # de Casteljau subdivision at the midpoint
         for i in range(nb):
@@ -326,41 +351,54 @@ def _illinois(kind, x0, x1, f0, f1, p, a, K):
 
 
 @njit
-def refine(kind, d0, d1, p, a, K, out):
+def refine(kind, d0, d1, sure, p, a, K, out):
     """Roots of the residual ``kind`` at d (the true residual, not its interpolant) in the bracket [d0, d1].
 
-    Sign changes on a grid of the bracket are refined to full precision; without any, the
-    grid point of least ``|f|`` (a tangential root) is returned, refined to the least ``|f|``.
-    Writes to ``out``, returns the count (at least 1)."""
-    m = 8
+    A ``sure`` bracket (proved to hold exactly one root) whose ends have opposite signs goes
+    straight to the safeguarded secant. Otherwise sign changes on a grid of the bracket are
+    refined to full precision; without any, the grid point of least ``|f|`` (a tangential
+    root) is returned, refined to the least ``|f|``. Writes to ``out``, returns the count (at
+    least 1)."""
+    if sure:
+        f0 = residual_of(kind, d0, p, a, K)[0]
+        f1 = residual_of(kind, d1, p, a, K)[0]
+        if f0 * f1 < 0.0:
+            out[0] = _illinois(kind, d0, d1, f0, f1, p, a, K)
+            return 1
+    m = REFINE_GRID
     xs = np.empty(m + 1)
     fs = np.empty(m + 1)
     for i in range(m + 1):
         xs[i] = d0 + (d1 - d0) * i / m
         fs[i] = residual_of(kind, xs[i], p, a, K)[0]
     count = 0
-    best = 0
     for i in range(m + 1):
-        if abs(fs[i]) < abs(fs[best]):
-            best = i
-        if fs[i] == 0.0 and count < out.shape[0]:
+        if count >= out.shape[0]:
+            break
+        if fs[i] == 0.0:
             out[count] = xs[i]
             count += 1
-        elif i < m and fs[i] * fs[i + 1] < 0.0 and count < out.shape[0]:
+        elif i < m and fs[i] * fs[i + 1] < 0.0:
             out[count] = _illinois(kind, xs[i], xs[i + 1], fs[i], fs[i + 1], p, a, K)
             count += 1
-    if count == 0:
-        # no sign change: the least |f| on the grid, then a golden-section refinement
-        lo = xs[max(0, best - 1)]
-        hi = xs[min(m, best + 1)]
-        g = 0.5 * (math.sqrt(5.0) - 1.0)
-        for _ in range(60):
-            x1 = hi - g * (hi - lo)
-            x2 = lo + g * (hi - lo)
-            if abs(residual_of(kind, x1, p, a, K)[0]) < abs(residual_of(kind, x2, p, a, K)[0]):
-                hi = x2
-            else:
-                lo = x1
-        out[0] = 0.5 * (lo + hi)
-        count = 1
+        elif (fs[i] != 0.0 and (i == 0 or abs(fs[i]) <= abs(fs[i - 1]))
+              and (i == m or abs(fs[i]) <= abs(fs[i + 1]))):
+            # a local minimum of |f| without a sign change: a tangential root or a near miss
+            # (a candidate; the forward kinematics decides)
+            out[count] = _golden(kind, xs[max(0, i - 1)], xs[min(m, i + 1)], p, a, K)
+            count += 1
     return count
+
+
+@njit
+def _golden(kind, lo, hi, p, a, K):
+    """The least ``|f|`` in [lo, hi] by golden-section search."""
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    for _ in range(60):
+        x1 = hi - g * (hi - lo)
+        x2 = lo + g * (hi - lo)
+        if abs(residual_of(kind, x1, p, a, K)[0]) < abs(residual_of(kind, x2, p, a, K)[0]):
+            hi = x2
+        else:
+            lo = x1
+    return 0.5 * (lo + hi)

@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from . import _layout as L
+from ._checks import validate_pose
 from ._complete import solve_all, wrap
 from ._jit import njit
 
@@ -115,3 +116,157 @@ def solve_config_batch(Ts, K, Bm, bnorm, arm, elbow, wrist, seeds, has_seed,
             continue
         n = solve_all(Ts[i], K, Bm, bnorm, seeds[i], has_seed, sols)
         ok_out[i] = select(sols, n, arm, elbow, wrist, seeds[i], within_limits, K, q_out[i])
+
+
+# ---------------------------------------------------------------------- fused entry points
+# One compiled call per public call: the Python side only allocates and raises.
+
+
+@njit
+def np_wrap(x):
+    """``numpy``'s :func:`ik7r.rotations.wrap_angle` of one angle, bit for bit (fmod based)."""
+    two_pi = 2.0 * math.pi
+    y = np.fmod(x + math.pi, two_pi)
+    if y != 0.0:
+        if y < 0.0:
+            y += two_pi
+    else:
+        y = 0.0
+    if y <= 0.0:
+        y += two_pi
+    return y - math.pi
+
+
+@njit
+def config_number(q):
+    """Configuration number 1..8 of ``q`` (6,), as :func:`ik7r.configs.config_number`."""
+    q1 = np_wrap(q[0])
+    q3 = np_wrap(q[2])
+    q5 = np_wrap(q[4])
+    arm = 1 if -HALF_PI <= q1 < HALF_PI else 0
+    elbow = 1 if -HALF_PI <= q3 < HALF_PI else 0
+    wrist = 1 if 0.0 <= q5 < math.pi else 0
+    return 1 + 4 * (1 - arm) + 2 * (1 - elbow) + (1 - wrist)
+
+
+@njit
+def _before(a, ca, b, cb):
+    """Strictly before in the order (configuration, q1, q2, q3, q4, q5, q7)."""
+    if ca != cb:
+        return ca < cb
+    for j in range(6):
+        if a[j] != b[j]:
+            return a[j] < b[j]
+    return False
+
+
+@njit
+def sort_solutions(sols, n):
+    """Sort ``sols[:n]`` in place by configuration number, then joints (a stable insertion
+    sort: the order of ``np.lexsort`` on those keys)."""
+    conf = np.empty(n, np.int64)
+    for s in range(n):
+        conf[s] = config_number(sols[s])
+    row = np.empty(6)
+    for s in range(1, n):
+        c = conf[s]
+        for j in range(6):
+            row[j] = sols[s, j]
+        k = s
+        while k > 0 and _before(row, c, sols[k - 1], conf[k - 1]):
+            for j in range(6):
+                sols[k, j] = sols[k - 1, j]
+            conf[k] = conf[k - 1]
+            k -= 1
+        for j in range(6):
+            sols[k, j] = row[j]
+        conf[k] = c
+
+
+@njit
+def _finite6(x):
+    for j in range(6):
+        if not math.isfinite(x[j]):
+            return False
+    return True
+
+
+@njit
+def ik_all_one(T, tol, K, Bm, bnorm, hint, has_hint, within_limits, out):
+    """Validate one pose ``T`` (4, 4), solve it and sort the solutions into ``out``.
+
+    Returns the number of solutions, -1 when ``T`` is not a valid pose or -2 when the hint
+    is not finite (the caller says why). With ``within_limits`` every multi-turn equivalent
+    inside the limits is written (``out`` needs ``64 * MAX_SOLUTIONS`` rows)."""
+    clean = np.empty((4, 4))
+    if validate_pose(T, tol, clean, np.empty((3, 3))) != 0:
+        return -1
+    if has_hint and not _finite6(hint):
+        return -2
+    sols = np.empty((L.MAX_SOLUTIONS, 6))
+    n = solve_all(clean, K, Bm, bnorm, hint, has_hint, sols)
+    if within_limits:
+        n = expand_within_limits(sols, n, K, out[:max(1, n) * 64])
+    else:
+        for s in range(n):
+            for j in range(6):
+                out[s, j] = sols[s, j]
+    sort_solutions(out, n)
+    return n
+
+
+@njit
+def ik_one(T, tol, K, Bm, bnorm, arm, elbow, wrist, hint, has_hint, within_limits, sols, q_out):
+    """Validate one pose, solve it and pick the solution with the indicators nearest ``hint``.
+
+    Returns ``(n, found)``: the number of solutions of the pose (left in ``sols``; -1 when
+    ``T`` is not a valid pose, -2 when the hint is not finite) and whether one with the
+    indicators was written to ``q_out``."""
+    clean = np.empty((4, 4))
+    if validate_pose(T, tol, clean, np.empty((3, 3))) != 0:
+        return -1, False
+    if has_hint and not _finite6(hint):
+        return -2, False
+    n = solve_all(clean, K, Bm, bnorm, hint, has_hint, sols)
+    found = select(sols[:max(1, n)], n, arm, elbow, wrist, hint, within_limits, K, q_out)
+    return n, found
+
+
+@njit
+def config_rows(Ts, K, Bm, bnorm, arm, elbow, wrist, seeds, has_seed, within_limits,
+                ok_in, q_out, ok_out):
+    """One configuration for every pose of ``Ts`` (N, 4, 4) whose ``ok_in`` is True; rows
+    without a solution get NaN. ``seeds`` is (N, 6) or (1, 6) (the same seed for every row)."""
+    sols = np.empty((L.MAX_SOLUTIONS, 6))
+    per_row = seeds.shape[0] > 1
+    for i in range(Ts.shape[0]):
+        seed = seeds[i] if per_row else seeds[0]
+        ok = False
+        if ok_in[i]:
+            n = solve_all(Ts[i], K, Bm, bnorm, seed, has_seed, sols)
+            ok = select(sols, n, arm, elbow, wrist, seed, within_limits, K, q_out[i])
+        ok_out[i] = ok
+        if not ok:
+            for j in range(6):
+                q_out[i, j] = np.nan
+
+
+@njit
+def all_rows(Ts, K, Bm, bnorm, ok_in, out, counts):
+    """Every solution of every pose of ``Ts`` (N, 4, 4) into ``out`` (N, W, 6), NaN after the
+    ``counts[i]`` valid rows; poses whose ``ok_in`` is False have none."""
+    sols = np.empty((L.MAX_SOLUTIONS, 6))
+    hint = np.zeros(6)
+    width = out.shape[1]
+    for i in range(Ts.shape[0]):
+        n = 0
+        if ok_in[i]:
+            n = solve_all(Ts[i], K, Bm, bnorm, hint, False, sols)
+        n = min(n, width)
+        counts[i] = n
+        for s in range(n):
+            for j in range(6):
+                out[i, s, j] = sols[s, j]
+        for s in range(n, width):
+            for j in range(6):
+                out[i, s, j] = np.nan

@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from .rotations import nearest_rotation
-
 __all__ = [
     "ORTHONORMAL_TOL",
     "check_joints",
@@ -14,6 +12,7 @@ __all__ = [
     "check_config",
     "check_finite",
     "transforms_status",
+    "poses_status",
 ]
 
 #: Largest entry of ``|R^T R - I|`` (and of ``|bottom row - [0, 0, 0, 1]|``) accepted in a pose.
@@ -54,6 +53,47 @@ def _as_transforms(T, name: str) -> np.ndarray:
     return arr
 
 
+def _kernel():
+    global _VALIDATE
+    if _VALIDATE is None:
+        from ._checks import validate_pose, validate_poses
+
+        _VALIDATE = (validate_pose, validate_poses)
+    return _VALIDATE
+
+
+_VALIDATE = None
+
+
+def _reason(T: np.ndarray) -> str:
+    """Why the pose ``T`` (4, 4) was rejected (called for rejected poses only)."""
+    if not np.all(np.isfinite(T)):
+        return "NaN or infinity"
+    if np.abs(T[3, :] - np.array([0.0, 0.0, 0.0, 1.0])).max() > ORTHONORMAL_TOL:
+        return f"bottom row is {T[3].tolist()}, expected [0, 0, 0, 1]"
+    R = T[:3, :3]
+    orth = np.abs(R.T @ R - np.eye(3)).max()
+    det = np.linalg.det(R)
+    return (
+        f"rotation is not proper orthonormal (max |R^T R - I| = {orth:.2e}, "
+        f"det = {det:.6f}; expected within {ORTHONORMAL_TOL:g} and det = +1)"
+    )
+
+
+def poses_status(T, name: str = "T") -> tuple[np.ndarray, np.ndarray]:
+    """:func:`transforms_status` without the reasons (the fast form for big batches).
+
+    Returns ``(T_clean, ok)``: ``T_clean`` a new C-contiguous array of the shape of ``T``
+    (..., 4, 4), ``ok`` a boolean array of shape ``T.shape[:-2]``.
+    """
+    arr = _as_transforms(T, name)
+    flat = np.ascontiguousarray(arr.reshape(-1, 4, 4))
+    clean = np.empty(flat.shape)
+    codes = np.empty(flat.shape[0], dtype=np.int8)
+    _kernel()[1](flat, ORTHONORMAL_TOL, clean, codes)
+    return clean.reshape(arr.shape), (codes == 0).reshape(arr.shape[:-2])
+
+
 def transforms_status(T, name: str = "T") -> tuple[np.ndarray, np.ndarray, list[str]]:
     """Validate every pose of ``T`` (..., 4, 4) without raising on a bad pose.
 
@@ -62,38 +102,31 @@ def transforms_status(T, name: str = "T") -> tuple[np.ndarray, np.ndarray, list[
     and for each bad one a sentence saying why. Raises only when the shape is wrong.
     """
     arr = _as_transforms(T, name)
+    clean, ok = poses_status(arr, name)
     flat = arr.reshape(-1, 4, 4)
-    ok = np.all(np.isfinite(flat), axis=(1, 2))
-    reasons = ["" if good else "NaN or infinity" for good in ok]
-    clean = np.where(ok[:, None, None], flat, np.eye(4))
-    R = clean[:, :3, :3]
-    orth = np.abs(np.swapaxes(R, 1, 2) @ R - np.eye(3)).max(axis=(1, 2))
-    det = np.linalg.det(R)
-    bottom = np.abs(clean[:, 3, :] - np.array([0.0, 0.0, 0.0, 1.0])).max(axis=1)
-    for i in np.flatnonzero(ok):
-        if bottom[i] > ORTHONORMAL_TOL:
-            reasons[i] = f"bottom row is {flat[i, 3].tolist()}, expected [0, 0, 0, 1]"
-        elif orth[i] > ORTHONORMAL_TOL or det[i] <= 0:
-            reasons[i] = (
-                f"rotation is not proper orthonormal (max |R^T R - I| = {orth[i]:.2e}, "
-                f"det = {det[i]:.6f}; expected within {ORTHONORMAL_TOL:g} and det = +1)"
-            )
-    ok = np.array([r == "" for r in reasons], dtype=bool)
-    clean = np.where(ok[:, None, None], clean, np.eye(4))
-    clean[:, :3, :3] = nearest_rotation(clean[:, :3, :3])
-    clean[:, 3, :] = (0.0, 0.0, 0.0, 1.0)
-    return clean.reshape(arr.shape), ok.reshape(arr.shape[:-2]), reasons
+    reasons = [""] * flat.shape[0]
+    for i in np.flatnonzero(~ok.reshape(-1)):
+        reasons[i] = _reason(flat[i])
+    return clean, ok, reasons
 
 
 def check_transforms(T, name: str = "T") -> np.ndarray:
     """``T`` as valid poses ``(..., 4, 4)``: finite, bottom row ``[0, 0, 0, 1]`` and a proper
     orthonormal rotation within :data:`ORTHONORMAL_TOL` (then projected to the nearest rotation).
     """
-    clean, ok, reasons = transforms_status(T, name)
+    if (type(T) is np.ndarray and T.shape == (4, 4) and T.dtype == np.float64
+            and T.flags.c_contiguous):
+        # one pose: the common case, without the batch machinery
+        clean = np.empty((4, 4))
+        if _kernel()[0](T, ORTHONORMAL_TOL, clean, np.empty((3, 3))) == 0:
+            return clean
+        raise ValueError(f"{name}: {_reason(T)}")
+    clean, ok = poses_status(T, name)
     if not np.all(ok):
+        flat = _as_transforms(T, name).reshape(-1, 4, 4)
         first = int(np.flatnonzero(~ok.reshape(-1))[0])
         where = f" (pose {first})" if clean.ndim > 2 else ""
-        raise ValueError(f"{name}{where}: {reasons[first]}")
+        raise ValueError(f"{name}{where}: {_reason(flat[first])}")
     return clean
 
 
@@ -102,6 +135,8 @@ def check_config(config) -> tuple[int, int, int]:
 
     Numbering of the paper's Appendix 3: ``config = 1 + 4 (1 - arm) + 2 (1 - elbow) + (1 - wrist)``.
     """
+    if type(config) is int and 1 <= config <= 8:  # the common case, fast
+        return _INDICATORS[config]
     if isinstance(config, (tuple, list)) and len(config) == 3:
         vals = []
         for v in config:
@@ -115,3 +150,6 @@ def check_config(config) -> tuple[int, int, int]:
         raise ValueError(f"config must be 1..8 (the paper's Appendix 3); got {config}")
     c = int(config) - 1
     return 1 - (c >> 2), 1 - ((c >> 1) & 1), 1 - (c & 1)
+
+
+_INDICATORS = {c: (1 - ((c - 1) >> 2), 1 - (((c - 1) >> 1) & 1), 1 - ((c - 1) & 1)) for c in range(1, 9)}

@@ -285,6 +285,12 @@ class Robot:
 
         return ik_all_batch(self, T)
 
+    def ik_path(self, T, config=1, *, seed=None, within_limits: bool = False, max_step: float = 0.2):
+        """Warm-started IK along a path ``(N, 4, 4)``; see :func:`ik7r.track.ik_path`."""
+        from .track import ik_path
+
+        return ik_path(self, T, config, seed=seed, within_limits=within_limits, max_step=max_step)
+
     def ik_paper(self, T, config=1, theta5_start=None, **kwargs):
         """The paper's fixed-point iteration (Figure 5); see :func:`ik7r.paper.ik_paper`."""
         from .paper import ik_paper

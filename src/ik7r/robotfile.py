@@ -52,10 +52,14 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
-__all__ = ["load_robot", "robot_from_toml", "robot_to_toml", "BUILTIN_ROBOTS"]
+__all__ = ["load_robot", "robot_from_toml", "robot_to_toml", "robot_in_unit", "BUILTIN_ROBOTS",
+           "METRES_PER_UNIT"]
 
 #: Names of the robots shipped with ik7r (``ik7r.load_robot(name)``).
 BUILTIN_ROBOTS = {"paper": "paper.toml", "irb5400": "irb5400.toml"}
+
+#: Length units ik7r converts between (metres per unit); URDF files are always in metres.
+METRES_PER_UNIT = {"m": 1.0, "cm": 1e-2, "mm": 1e-3}
 
 
 def load_robot(path=None, *, base: str | None = None, tip: str | None = None) -> Robot:
@@ -219,3 +223,36 @@ def robot_to_toml(robot: Robot) -> str:
             lines += ["", f"[{key}]", f"xyz = {_fmt(T[:3, 3])}",
                       f"rpy = {_fmt(np.degrees(matrix_to_rpy(T[:3, :3])))}"]
     return "\n".join(lines) + "\n"
+
+
+def robot_in_unit(robot: Robot, unit: str) -> Robot:
+    """A copy of ``robot`` with its lengths (DH a and d, base and tool translations) in ``unit``.
+
+    Parameters
+    ----------
+    robot : Robot
+    unit : str
+        One of :data:`METRES_PER_UNIT` (``"m"``, ``"cm"``, ``"mm"``); ``robot.unit`` must be too.
+
+    Returns
+    -------
+    Robot
+        Same joints and limits; its forward kinematics is the original one with positions scaled.
+    """
+    for u in (robot.unit, unit):
+        if u not in METRES_PER_UNIT:
+            raise ValueError(f"unknown length unit {u!r}; expected one of {', '.join(METRES_PER_UNIT)}")
+    if unit == robot.unit:
+        return robot
+    k = METRES_PER_UNIT[robot.unit] / METRES_PER_UNIT[unit]
+
+    def scaled(x):  # x * k without the float noise of the product (1.4083 * 1000 = 1408.3)
+        y = np.asarray(x, dtype=float) * k
+        tidy = np.array([float(f"{v:.12g}") for v in y.reshape(-1)]).reshape(y.shape)
+        return np.where(np.abs(tidy - y) <= 4 * np.finfo(float).eps * np.abs(y), tidy, y)
+
+    dh = np.array(robot.dh)
+    dh[:, 0], dh[:, 2] = scaled(dh[:, 0]), scaled(dh[:, 2])
+    base, tool = np.array(robot.base), np.array(robot.tool)
+    base[:3, 3], tool[:3, 3] = scaled(base[:3, 3]), scaled(tool[:3, 3])
+    return robot.replace(dh=dh, base=base, tool=tool, unit=unit)

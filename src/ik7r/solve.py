@@ -7,41 +7,113 @@ boundary and hand the poses to the compiled kernels of :mod:`ik7r._complete` and
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
+from functools import cache
+
 import numpy as np
 
 from . import _layout as L
-from ._complete import solve_all, solve_all_batch
 from ._poly import bernstein_matrices
-from ._select import expand_within_limits, select, solve_config_batch
-from .checks import check_config, check_joints, check_transforms, transforms_status
+from ._select import all_rows, config_rows, ik_all_one, ik_one
+from .checks import ORTHONORMAL_TOL, check_config, check_joints, check_transforms, poses_status
 from .configs import config_number, describe_config
 from .errors import UnreachableError
 
-__all__ = ["ik_all", "ik", "ik_batch", "ik_all_batch", "MAX_SOLUTIONS"]
+__all__ = ["ik_all", "ik", "ik_batch", "ik_all_batch", "MAX_SOLUTIONS", "num_threads", "threads_for"]
 
 #: Most solutions one pose can have (see :mod:`ik7r._poly`): the width K of ``ik_all_batch``.
 MAX_SOLUTIONS = L.MAX_SOLUTIONS
 
+#: Fewest poses a thread of the batch functions is given (smaller batches run in one thread).
+MIN_POSES_PER_THREAD = 2048
 
-def _matrices(robot):
-    n = int(robot.kernel_params[L.NCHEB])
+@cache
+def _bernstein(n: int) -> tuple[np.ndarray, float]:
     _, Bm = bernstein_matrices(n)
     return Bm, float(np.abs(Bm).sum(axis=1).max())
 
 
-def _seed(seed, shape):
+def _matrices(robot):
+    return _bernstein(int(robot.kernel_params[L.NCHEB]))
+
+
+def num_threads() -> int:
+    """Threads the batch functions use: ``IK7R_NUM_THREADS`` if set, else the usable cores."""
+    env = os.environ.get("IK7R_NUM_THREADS", "").strip()
+    if env:
+        try:
+            return max(1, int(env))
+        except ValueError:
+            raise ValueError(f"IK7R_NUM_THREADS must be a positive integer; got {env!r}") from None
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not on Linux
+        return max(1, os.cpu_count() or 1)
+
+
+_POOL: ThreadPoolExecutor | None = None
+
+# The hint of single-pose calls without a seed. The kernels never write into a hint (a
+# caller's seed array is handed to them as it is, too).
+_ZERO_HINT = np.zeros(6)
+
+
+def threads_for(n: int) -> int:
+    """Threads a batch of ``n`` poses is solved with (at least
+    :data:`MIN_POSES_PER_THREAD` poses per thread, at most :func:`num_threads`)."""
+    return max(1, min(num_threads(), n // MIN_POSES_PER_THREAD))
+
+
+def _in_threads(n: int, work) -> None:
+    """Run ``work(start, stop)`` over ``range(n)`` split into contiguous slices, one per
+    thread (the compiled kernels release the GIL)."""
+    threads = threads_for(n)
+    if threads <= 1:
+        work(0, n)
+        return
+    global _POOL
+    if _POOL is None or _POOL._max_workers < threads:  # noqa: SLF001
+        _POOL = ThreadPoolExecutor(max_workers=threads, thread_name_prefix="ik7r")
+    bounds = np.linspace(0, n, threads + 1).astype(int)
+    futures = [_POOL.submit(work, int(a), int(b)) for a, b in zip(bounds[:-1], bounds[1:])]
+    for f in futures:
+        f.result()
+
+
+def _seed(seed, shape, T=None):
+    """The seed broadcast to ``shape`` and whether one was given; a bad pose ``T`` is
+    reported before a bad seed (the order of the checks). A float (6,) seed of a single-pose
+    call is passed as it is: the kernel checks that it is finite (see :func:`_bad_input`)."""
     if seed is None:
-        return np.zeros(shape), False
-    s = check_joints(seed, "seed")
+        return (_ZERO_HINT if shape == (6,) else np.zeros(6)), False
+    if (shape == (6,) and type(seed) is np.ndarray and seed.shape == (6,)
+            and seed.dtype == np.float64 and seed.flags.c_contiguous):
+        return seed, True
+    try:
+        s = check_joints(seed, "seed")
+    except ValueError:
+        if T is not None:
+            check_transforms(T)
+        raise
     return np.ascontiguousarray(np.broadcast_to(s, shape), dtype=float), True
 
 
-def _all(robot, T_world_tool: np.ndarray, hint: np.ndarray, has_hint: bool) -> np.ndarray:
-    out = np.empty((MAX_SOLUTIONS, 6))
-    Bm, bnorm = _matrices(robot)
-    n = solve_all(np.ascontiguousarray(T_world_tool), robot.kernel_params, Bm, bnorm,
-                  hint, has_hint, out)
-    return out[:n].copy()
+def _bad_input(T, seed) -> None:
+    """Raise the ValueError of the checks for a pose or seed a kernel rejected."""
+    check_transforms(T)
+    check_joints(seed, "seed")
+    raise AssertionError("a kernel rejected an input the checks accept")  # pragma: no cover
+
+
+def _one_pose(T, batch_name: str) -> np.ndarray:
+    """``T`` as a C-contiguous float (4, 4) array, or the ValueError of the checks."""
+    if type(T) is np.ndarray and T.dtype == np.float64 and T.shape == (4, 4) and T.flags.c_contiguous:
+        return T
+    arr = check_transforms(T)
+    if arr.shape != (4, 4):
+        raise ValueError(f"T must be one pose of shape (4, 4); got {arr.shape} (use {batch_name})")
+    return arr
 
 
 def ik_all(robot, T, *, within_limits: bool = False, seed=None) -> np.ndarray:
@@ -66,17 +138,15 @@ def ik_all(robot, T, *, within_limits: bool = False, seed=None) -> np.ndarray:
         (-pi, pi] unless ``within_limits``. Each satisfies the forward kinematics to the
         robot's tolerances. ``M = 0`` when the pose is out of reach.
     """
-    T = check_transforms(T)
-    if T.shape != (4, 4):
-        raise ValueError(f"T must be one pose of shape (4, 4); got {T.shape} (use ik_all_batch)")
-    hint, has = _seed(seed, (6,))
-    sols = _all(robot, T, hint, has)
-    if within_limits:
-        out = np.empty((max(1, len(sols)) * 64, 6))
-        n = expand_within_limits(np.ascontiguousarray(sols), len(sols), robot.kernel_params, out)
-        sols = out[:n].copy()
-    order = np.lexsort(tuple(sols[:, j] for j in range(5, -1, -1)) + (config_number(sols),))
-    return sols[order]
+    T = _one_pose(T, "ik_all_batch")
+    hint, has = _seed(seed, (6,), T)
+    Bm, bnorm = _matrices(robot)
+    out = np.empty((MAX_SOLUTIONS * 64 if within_limits else MAX_SOLUTIONS, 6))
+    n = ik_all_one(T, ORTHONORMAL_TOL, robot.kernel_params, Bm, bnorm, hint, has,
+                   bool(within_limits), out)
+    if n < 0:
+        _bad_input(T, seed)
+    return out[:n].copy() if within_limits else out[:n]
 
 
 def ik(robot, T, config=1, *, seed=None, within_limits: bool = False) -> np.ndarray:
@@ -108,15 +178,18 @@ def ik(robot, T, config=1, *, seed=None, within_limits: bool = False) -> np.ndar
         No solution in that configuration (or none within the limits).
     """
     arm, elbow, wrist = check_config(config)
-    T = check_transforms(T)
-    if T.shape != (4, 4):
-        raise ValueError(f"T must be one pose of shape (4, 4); got {T.shape} (use ik_batch)")
-    hint, has = _seed(seed, (6,))
-    sols = _all(robot, T, hint, has)
+    T = _one_pose(T, "ik_batch")
+    hint, has = _seed(seed, (6,), T)
+    Bm, bnorm = _matrices(robot)
+    sols = np.empty((MAX_SOLUTIONS, 6))
     q = np.empty(6)
-    pool = np.ascontiguousarray(sols if len(sols) else np.empty((1, 6)))
-    if select(pool, len(sols), arm, elbow, wrist, hint, within_limits, robot.kernel_params, q):
+    n, found = ik_one(T, ORTHONORMAL_TOL, robot.kernel_params, Bm, bnorm, arm, elbow, wrist,
+                      hint, has, bool(within_limits), sols, q)
+    if found:
         return q
+    if n < 0:
+        _bad_input(T, seed)
+    sols = sols[:n]
     what = describe_config(arm, elbow, wrist)
     if len(sols) == 0:
         raise UnreachableError(f"the pose is out of reach: no solution in any configuration ({what} asked)")
@@ -145,17 +218,23 @@ def ik_batch(robot, T, config=1, *, seed=None, within_limits: bool = False):
         row is still solved.
     """
     arm, elbow, wrist = check_config(config)
-    Tc, good, _ = transforms_status(T)
+    Tc, good = poses_status(T)
     if Tc.ndim != 3:
         raise ValueError(f"T must have shape (N, 4, 4); got {Tc.shape}")
     n = Tc.shape[0]
     seeds, has = _seed(seed, (n, 6))
-    q = np.full((n, 6), np.nan)
-    ok = np.zeros(n, dtype=bool)
+    if not has:
+        seeds = seeds[None]
+    q = np.empty((n, 6))
+    ok = np.empty(n, dtype=bool)
     Bm, bnorm = _matrices(robot)
-    solve_config_batch(np.ascontiguousarray(Tc), robot.kernel_params, Bm, bnorm, arm, elbow,
-                       wrist, seeds, has, within_limits, good, q, ok)
-    q[~ok] = np.nan
+    K = robot.kernel_params
+
+    def work(a, b):
+        config_rows(Tc[a:b], K, Bm, bnorm, arm, elbow, wrist, seeds[a:b] if has else seeds, has,
+                    bool(within_limits), good[a:b], q[a:b], ok[a:b])
+
+    _in_threads(n, work)
     return q, ok
 
 
@@ -172,15 +251,18 @@ def ik_all_batch(robot, T):
         ``K = MAX_SOLUTIONS``; invalid entries hold NaN. Valid entries come first in each row.
     valid : ndarray, shape (N, K), bool
     """
-    Tc, good, _ = transforms_status(T)
+    Tc, good = poses_status(T)
     if Tc.ndim != 3:
         raise ValueError(f"T must have shape (N, 4, 4); got {Tc.shape}")
     n = Tc.shape[0]
-    out = np.full((n, MAX_SOLUTIONS, 6), np.nan)
-    counts = np.zeros(n, dtype=np.int64)
+    out = np.empty((n, MAX_SOLUTIONS, 6))
+    counts = np.empty(n, dtype=np.int64)
     Bm, bnorm = _matrices(robot)
-    solve_all_batch(np.ascontiguousarray(Tc), robot.kernel_params, Bm, bnorm,
-                    np.zeros((n, 6)), False, good, out, counts)
+    K = robot.kernel_params
+
+    def work(a, b):
+        all_rows(Tc[a:b], K, Bm, bnorm, good[a:b], out[a:b], counts[a:b])
+
+    _in_threads(n, work)
     valid = np.arange(MAX_SOLUTIONS)[None, :] < counts[:, None]
-    out[~valid] = np.nan
     return out, valid
