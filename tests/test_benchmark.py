@@ -166,3 +166,12 @@ def test_cli_bench_writes_json(tmp_path, capsys):
 def test_cli_bench_bad_input_exits_2(args, capsys):
     assert main(["bench", *args]) == 2
     assert "error" in capsys.readouterr().err
+
+
+def test_big_chunked_row_runs_in_a_fresh_process(robot):
+    from ik7r.benchmark import _big_row
+
+    row = _big_row(robot, 300, lambda t: t / 1e-6)
+    assert row.failures == 0 and row.n == 300
+    assert math.isfinite(row.seconds) and row.seconds > 0
+    assert "peak RSS" in row.note

@@ -92,3 +92,22 @@ def test_console_script_runs_as_a_process():
     proc = subprocess.run([sys.executable, "-m", "ik7r", "ik", "--position", "9000", "0", "0",
                            "--rpy", "0", "0", "0", "--all"], capture_output=True, text=True)
     assert proc.returncode == 1 and "Traceback" not in proc.stderr
+
+
+def test_one_shot_commands_run_without_numba_and_agree():
+    """`ik7r ik` runs its kernels as plain Python (fast start-up): same answers as compiled."""
+    import os
+
+    args = ["ik", "--position", "733.5055", "1297.2539", "482.878", "--rpy", "0.4894", "-53.5252",
+            "-115.2529", "--all", "--json"]
+    env = dict(os.environ, IK7R_JIT="0")
+    code = ("import sys, ik7r.cli; rc = ik7r.cli.main(sys.argv[1:]); "
+            "assert 'numba' not in sys.modules, 'numba imported'; sys.exit(rc)")
+    proc = subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True, env=env)
+    assert proc.returncode == 0, proc.stderr
+    plain = np.array([s["q_deg"] for s in json.loads(proc.stdout)["solutions"]])
+    compiled_out = subprocess.run([sys.executable, "-m", "ik7r", *args], capture_output=True, text=True,
+                                  env=dict(os.environ, IK7R_JIT="1"))
+    compiled = np.array([s["q_deg"] for s in json.loads(compiled_out.stdout)["solutions"]])
+    assert plain.shape == compiled.shape == (8, 6)
+    np.testing.assert_allclose(plain, compiled, atol=1e-9)

@@ -32,7 +32,8 @@ from ._poly import (
 from ._wrist import theta5_of_bend, theta5_of_d, wrist_ik, wrist_target
 
 TWO_PI = 2.0 * math.pi
-DUP_TOL = 1e-7  # two solutions closer than this (rad, every joint) are one
+DUP_TOL = 1e-5  # two solutions closer than this (rad, every joint) are one (near a singular arm or
+# wrist the FK is flat and its exact solutions come as clusters of numerically equal shadows)
 
 
 #: Most candidate roots of one pose: every bracket (24) may give REFINE_GRID + 2 candidates.
@@ -75,8 +76,9 @@ def frame07(Td, K, T07):
 
 
 @njit
-def _psi_candidates(a11, a12, m, a21, a22, c, out):
-    """(cos psi, sin psi) solving the 2 x 2 system on the unit circle: 0, 1 or 2 of them."""
+def _psi_candidates(a11, a12, m, a21, a22, c, out, tol=1e-4):
+    """(cos psi, sin psi) solving the 2 x 2 system on the unit circle: 0, 1 or 2 of them
+    (the Cramer solution is accepted ``tol`` off the circle, then projected onto it)."""
     det = a11 * a22 - a12 * a21
     s1 = abs(a11) + abs(a12)
     s2 = abs(a21) + abs(a22)
@@ -84,7 +86,7 @@ def _psi_candidates(a11, a12, m, a21, a22, c, out):
         cp = (m * a22 - a12 * c) / det
         sp = (a11 * c - a21 * m) / det
         nrm = math.hypot(cp, sp)
-        if abs(nrm - 1.0) > 1e-4:
+        if abs(nrm - 1.0) > tol:
             return 0
         out[0, 0] = cp / nrm
         out[0, 1] = sp / nrm
@@ -150,15 +152,28 @@ def _add(q, out, count):
 
 
 @njit
-def _accept(q, Td, K, out, count):
+def _accept(q, Td, K, out, count, snap=False, follow=True):
     """Verify ``q`` on the exact forward kinematics (polishing it if needed) and append it.
 
-    Returns the new count and whether ``q`` is exact (appended now or already there)."""
+    A ``snap`` (theta5 set to exactly 0 or pi) is not polished on a model that deviates from
+    the idealised one: the polish would leave the singular wrist for one of the two solutions
+    beside it, and the caller would stop looking for the other. Returns the new count and
+    whether ``q`` is exact (appended now or already there). ``follow``: ``q`` solves the
+    idealised model, so it can be followed to the exact one (a homotopy)."""
     T = np.empty((4, 4))
     fk_user(q, K, T)
     dp, dr = residual(T, Td)
     if dp > K[L.POS_TOL] or dr > K[L.ROT_TOL]:
-        if not polish(q, Td, K, 8 if K[L.DEVIATION] == 0.0 else 30):
+        if K[L.DEVIATION] > 0.0:
+            if snap:
+                return count, False
+            # follow the solution from the idealised model to the exact one in small steps, so
+            # that each candidate lands on its own exact solution even inside a close cluster
+            for k in range(L.HOMOTOPY_STEPS if follow else 0):
+                polish(q, Td, K[L.HOMOTOPY + k * L.BASE_SIZE:L.HOMOTOPY + (k + 1) * L.BASE_SIZE], 4)
+            if not polish(q, Td, K, 30):
+                return count, False
+        elif not polish(q, Td, K, 8):
             return count, False
     return _add(q, out, count), True
 
@@ -196,7 +211,7 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count):
         qs = q.copy()
         qs[4] = user_angle(4, 0.0, K)
         _straight_split(qs, Q, K, hint, has_hint)
-        count, exact = _accept(qs, Td, K, out, count)
+        count, exact = _accept(qs, Td, K, out, count, True)
         if exact:
             return count
         # nearly straight: theta5 from the bend itself (d is flat in theta5 at zero)
@@ -210,7 +225,7 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count):
         qf[3] = user_angle(3, t4, K)
         qf[4] = user_angle(4, math.pi, K)
         qf[5] = user_angle(6, t7, K)
-        count, exact = _accept(qf, Td, K, out, count)
+        count, exact = _accept(qf, Td, K, out, count, True)
         if exact:
             return count
     # a model that is not exactly the idealised one (rounded published numbers): a start on
@@ -228,13 +243,13 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count):
         qq[4] = user_angle(4, sgn * t5, K)
         qq[5] = user_angle(6, t7, K)
         count, exact = _accept(qq, Td, K, out, count)
-        if not exact and t5_alt > 0.0:
+        if t5_alt > 0.0:  # (both signs polish from one singular point: also start off it)
             t4, t7 = wrist_ik(Q, sgn * t5_alt, t4_hint, K)
             qq[:3] = q[:3]
             qq[3] = user_angle(3, t4, K)
             qq[4] = user_angle(4, sgn * t5_alt, K)
             qq[5] = user_angle(6, t7, K)
-            count, _ = _accept(qq, Td, K, out, count)
+            count, _ = _accept(qq, Td, K, out, count, False, False)
     return count
 
 
@@ -282,7 +297,7 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count):
     for sgn in (1.0, -1.0):
         rho = sgn * s
         a11, a12, m, a21, a22, c = linear_system(d, rho, p, a, K)
-        n = _psi_candidates(a11, a12, m, a21, a22, c, psi)
+        n = _psi_candidates(a11, a12, m, a21, a22, c, psi, 1e-4 if K[L.DEVIATION] == 0.0 else 2e-2)
         th1 = math.atan2(rho * py - bp * px, rho * px + bp * py)
         for k in range(n):
             _arm_from_psi(d, rho, psi[k, 0], psi[k, 1], pz, th1, K, th)

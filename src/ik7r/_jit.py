@@ -8,13 +8,22 @@ installation, not at import time and not per process.
 
 from __future__ import annotations
 
-try:  # pragma: no cover - exercised implicitly
-    from numba import njit as _njit
+import os
 
-    HAVE_NUMBA = True
-except ImportError:  # pragma: no cover
-    HAVE_NUMBA = False
-    _njit = None
+#: ``IK7R_JIT=0`` runs the kernels as plain Python without importing numba: the command line
+#: sets it for one-shot commands (``ik7r fk``, ``ik7r ik``), where numba's start-up (about 0.5 s)
+#: costs more than solving one pose in Python.
+JIT_ENABLED = os.environ.get("IK7R_JIT", "1") != "0"
+
+_njit = None
+HAVE_NUMBA = False
+if JIT_ENABLED:
+    try:  # pragma: no cover - exercised implicitly
+        from numba import njit as _njit
+
+        HAVE_NUMBA = True
+    except ImportError:  # pragma: no cover
+        _njit = None
 
 
 def njit(func):

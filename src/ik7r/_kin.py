@@ -57,12 +57,12 @@ def chain(theta, K, first, last, M, table=L.DH):
 
     ``table`` selects the exact (``L.DH``) or the nominal (``L.NDH``) DH table.
     """
+    trig = L.TRIG if table == L.DH else L.TRIG + 14
     for i in range(first, last):
         a = K[table + 4 * i]
-        al = K[table + 4 * i + 1]
         d = K[table + 4 * i + 2]
-        ca = math.cos(al)
-        sa = math.sin(al)
+        ca = K[trig + 2 * i]
+        sa = K[trig + 2 * i + 1]
         ct = math.cos(theta[i])
         st = math.sin(theta[i])
         for r in range(3):
@@ -76,22 +76,55 @@ def chain(theta, K, first, last, M, table=L.DH):
 
 
 @njit
+def _dh_step(M, K, table, trig, i, theta_i):
+    """``M = M @ T(i-1, i)`` in place (eq. (1)) for DH angle ``theta_i``."""
+    a = K[table + 4 * i]
+    d = K[table + 4 * i + 2]
+    ca = K[trig + 2 * i]
+    sa = K[trig + 2 * i + 1]
+    ct = math.cos(theta_i)
+    st = math.sin(theta_i)
+    for r in range(3):
+        x = M[r, 0]
+        y = M[r, 1] * ca + M[r, 2] * sa
+        z = -M[r, 1] * sa + M[r, 2] * ca
+        M[r, 3] += a * x + d * z
+        M[r, 0] = ct * x + st * y
+        M[r, 1] = -st * x + ct * y
+        M[r, 2] = z
+
+
+@njit
+def _times_tool(M, K):
+    """``M = M @ TOOL`` in place (row by row, no allocation)."""
+    for r in range(3):
+        m0 = M[r, 0]
+        m1 = M[r, 1]
+        m2 = M[r, 2]
+        for j in range(4):
+            M[r, j] = (m0 * K[L.TOOL + j] + m1 * K[L.TOOL + 4 + j] + m2 * K[L.TOOL + 8 + j]
+                       + (M[r, 3] if j == 3 else 0.0))
+
+
+@njit
 def fk_theta(theta, K, out):
     """World <- tool transform for DH angles ``theta`` (7,)."""
-    M = np.empty((4, 4))
-    _copy_param44(K, L.BASE, M)
-    chain(theta, K, 0, 7, M)
-    T = np.empty((4, 4))
-    _copy_param44(K, L.TOOL, T)
-    _mul44(M, T, out)
+    _copy_param44(K, L.BASE, out)
+    for i in range(7):
+        _dh_step(out, K, L.DH, L.TRIG, i, theta[i])
+    _times_tool(out, K)
 
 
 @njit
 def fk_user(q, K, out):
-    """World <- tool transform for user joints ``q`` (6,)."""
-    theta = np.empty(7)
-    dh_angles(q, K, theta)
-    fk_theta(theta, K, out)
+    """World <- tool transform for user joints ``q`` (6,) (no allocation)."""
+    _copy_param44(K, L.BASE, out)
+    for i in range(5):
+        _dh_step(out, K, L.DH, L.TRIG, i, K[L.SIGN + i] * q[i] + K[L.DH + 4 * i + 3])
+    q6 = K[L.MIMIC] * q[4] + K[L.MIMIC + 1]
+    _dh_step(out, K, L.DH, L.TRIG, 5, K[L.SIGN + 5] * q6 + K[L.DH + 23])
+    _dh_step(out, K, L.DH, L.TRIG, 6, K[L.SIGN + 6] * q[5] + K[L.DH + 27])
+    _times_tool(out, K)
 
 
 @njit

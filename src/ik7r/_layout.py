@@ -42,7 +42,15 @@ NCHEB = NOM + 20  # degree of the residual polynomial (8 or 16)
 
 LIMITS = NOM + 24  # lower (6) then upper (6), rad, independent joints
 NDH = LIMITS + 12  # the nominal (idealised) DH table, same layout as DH
-SIZE = NDH + 28
+TRIG = NDH + 28  # cos, sin of each alpha_{i-1}: 7 pairs for DH, then 7 pairs for NDH
+BASE_SIZE = TRIG + 28
+
+# models between the nominal and the exact one (a homotopy for polishing deviating models):
+# HOMOTOPY_STEPS full parameter vectors of BASE_SIZE follow, the k-th with the DH table
+# nominal + t_k (exact - nominal), t_k = (k + 1) / (HOMOTOPY_STEPS + 1)
+HOMOTOPY = BASE_SIZE
+HOMOTOPY_STEPS = 3
+SIZE = BASE_SIZE * (1 + HOMOTOPY_STEPS)
 
 # most solutions one pose can have with this formulation (see ik7r.complete)
 MAX_SOLUTIONS = 32

@@ -68,18 +68,22 @@ def wrist_rotation(t5, K, W):
     W[2, 0] = 0.0
     W[2, 1] = 0.0
     W[2, 2] = 1.0
-    b = K[L.BETA]
-    _rot_x(W, -b)
-    _rot_z(W, t5)
-    _rot_x(W, 2.0 * b)
-    _rot_z(W, -t5)
-    _rot_x(W, -b)
+    cb = math.sqrt(1.0 - K[L.SB] * K[L.SB])  # cos(beta) > 0: |beta| < 45 deg
+    sb = K[L.SB]
+    c2 = cb * cb - sb * sb
+    s2 = 2.0 * sb * cb
+    c5 = math.cos(t5)
+    s5 = math.sin(t5)
+    _rot_x(W, cb, -sb)
+    _rot_z(W, c5, s5)
+    _rot_x(W, c2, s2)
+    _rot_z(W, c5, -s5)
+    _rot_x(W, cb, -sb)
 
 
 @njit
-def _rot_x(W, a):
-    c = math.cos(a)
-    s = math.sin(a)
+def _rot_x(W, c, s):
+    """``W = W @ RotX(a)`` with ``c, s = cos(a), sin(a)``."""
     for r in range(3):
         y = W[r, 1]
         z = W[r, 2]
@@ -88,9 +92,8 @@ def _rot_x(W, a):
 
 
 @njit
-def _rot_z(W, a):
-    c = math.cos(a)
-    s = math.sin(a)
+def _rot_z(W, c, s):
+    """``W = W @ RotZ(a)`` with ``c, s = cos(a), sin(a)``."""
     for r in range(3):
         x = W[r, 0]
         y = W[r, 1]
@@ -102,8 +105,8 @@ def _rot_z(W, a):
 def wrist_target(R03, R07, K, Q):
     """``Q = RotX(alpha3)^T R03^T R07`` (3, 3): the wrist's rotation with theta4 = theta7 = 0
     factored out, so that ``Q = RotZ(theta4) W(theta5) RotZ(theta7)``."""
-    ca = math.cos(K[L.NDH + 13])
-    sa = math.sin(K[L.NDH + 13])
+    ca = K[L.TRIG + 14 + 6]  # cos, sin of the nominal alpha3
+    sa = K[L.TRIG + 14 + 7]
     for j in range(3):
         x = R03[0, 0] * R07[0, j] + R03[1, 0] * R07[1, j] + R03[2, 0] * R07[2, j]
         y = R03[0, 1] * R07[0, j] + R03[1, 1] * R07[1, j] + R03[2, 1] * R07[2, j]

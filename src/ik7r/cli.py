@@ -8,10 +8,14 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 
 from .commands import command_modules
 from .errors import UnreachableError
+
+#: One-shot commands that solve a single pose: they run the kernels without numba (see _jit.py).
+FAST_START = ("fk", "ik")
 
 
 class CliError(Exception):
@@ -58,6 +62,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.command is None:
             parser.print_help()
             return 2
+        if args.command in FAST_START and "ik7r._jit" not in sys.modules:
+            os.environ.setdefault("IK7R_JIT", "0")  # one pose: plain Python beats numba's start-up
         return int(args.run(args) or 0)
     except CliError as exc:
         print(f"error: {exc}", file=sys.stderr)

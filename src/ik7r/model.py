@@ -23,6 +23,20 @@ __all__ = ["Robot"]
 DEFAULT_JOINT_NAMES = tuple(f"joint_{i}" for i in range(1, 8))
 
 
+_MODULES: dict = {}
+
+
+def _lazy(name: str):
+    """The submodule ``ik7r.<name>``, imported on first use (kept out of import time, and out
+    of every call: a function-level import costs about a microsecond)."""
+    mod = _MODULES.get(name)
+    if mod is None:
+        import importlib
+
+        mod = _MODULES[name] = importlib.import_module(f"ik7r.{name}")
+    return mod
+
+
 def _frozen(x, shape, name) -> np.ndarray:
     arr = np.array(x, dtype=float)
     if arr.shape != shape:
@@ -160,7 +174,7 @@ class Robot:
     def kernel_params(self) -> np.ndarray:
         """The flat parameter vector of :mod:`ik7r._layout` (read-only)."""
         f = self.family
-        K = np.zeros(L.SIZE)
+        K = np.zeros(L.BASE_SIZE)
         K[L.DH:L.DH + 28] = self.dh.reshape(-1)
         K[L.SIGN:L.SIGN + 7] = self.joint_sign
         K[L.MIMIC:L.MIMIC + 2] = self.coupling
@@ -182,6 +196,19 @@ class Robot:
         K[L.LIMITS:L.LIMITS + 6] = self.lower
         K[L.LIMITS + 6:L.LIMITS + 12] = self.upper
         K[L.NDH:L.NDH + 28] = f.nominal_dh.reshape(-1)
+        for t, table in enumerate((self.dh, f.nominal_dh)):  # cos, sin of every twist
+            K[L.TRIG + 14 * t:L.TRIG + 14 * (t + 1):2] = np.cos(table[:, 1])
+            K[L.TRIG + 14 * t + 1:L.TRIG + 14 * (t + 1):2] = np.sin(table[:, 1])
+        steps = []
+        for k in range(L.HOMOTOPY_STEPS):  # models on the way from the nominal to the exact one
+            t = (k + 1) / (L.HOMOTOPY_STEPS + 1)
+            Kt = K.copy()
+            dh_t = f.nominal_dh + t * (self.dh - f.nominal_dh)
+            Kt[L.DH:L.DH + 28] = dh_t.reshape(-1)
+            Kt[L.TRIG:L.TRIG + 14:2] = np.cos(dh_t[:, 1])
+            Kt[L.TRIG + 1:L.TRIG + 14:2] = np.sin(dh_t[:, 1])
+            steps.append(Kt)
+        K = np.concatenate([K, *steps])
         K.setflags(write=False)
         return K
 
@@ -209,12 +236,10 @@ class Robot:
         T_world_tool : ndarray, shape (..., 4, 4)
             Pose of the tool in the world frame (robot length unit).
         """
-        from ._kin import fk_batch
-
         q = check_joints(q)
         flat = np.ascontiguousarray(q.reshape(-1, 6))
         out = np.empty((flat.shape[0], 4, 4))
-        fk_batch(flat, self.kernel_params, out)
+        _lazy("_kin").fk_batch(flat, self.kernel_params, out)
         return out.reshape(q.shape[:-1] + (4, 4))
 
     def frames(self, q) -> np.ndarray:
@@ -263,27 +288,19 @@ class Robot:
     # ------------------------------------------------------------------ inverse kinematics
     def ik_all(self, T, *, within_limits: bool = False, seed=None) -> np.ndarray:
         """Every distinct solution of one pose ``(M, 6)``; see :func:`ik7r.solve.ik_all`."""
-        from .solve import ik_all
-
-        return ik_all(self, T, within_limits=within_limits, seed=seed)
+        return _lazy("solve").ik_all(self, T, within_limits=within_limits, seed=seed)
 
     def ik(self, T, config=1, seed=None, *, within_limits: bool = False) -> np.ndarray:
         """The solution in one configuration ``(6,)``; see :func:`ik7r.solve.ik`."""
-        from .solve import ik
-
-        return ik(self, T, config, seed=seed, within_limits=within_limits)
+        return _lazy("solve").ik(self, T, config, seed=seed, within_limits=within_limits)
 
     def ik_batch(self, T, config=1, seed=None, *, within_limits: bool = False):
         """``(q (N, 6), ok (N,))`` for poses ``(N, 4, 4)``; see :func:`ik7r.solve.ik_batch`."""
-        from .solve import ik_batch
-
-        return ik_batch(self, T, config, seed=seed, within_limits=within_limits)
+        return _lazy("solve").ik_batch(self, T, config, seed=seed, within_limits=within_limits)
 
     def ik_all_batch(self, T):
         """``(q (N, K, 6), valid (N, K))``; see :func:`ik7r.solve.ik_all_batch`."""
-        from .solve import ik_all_batch
-
-        return ik_all_batch(self, T)
+        return _lazy("solve").ik_all_batch(self, T)
 
     def ik_path(self, T, config=1, *, seed=None, within_limits: bool = False, max_step: float = 0.2):
         """Warm-started IK along a path ``(N, 4, 4)``; see :func:`ik7r.track.ik_path`."""
