@@ -201,6 +201,44 @@ def jacobian(q, K, J):
 
 
 @njit
+def fk_jacobian(q, K, T, J, ZO):
+    """Forward kinematics ``T`` (4, 4) and the Jacobian ``J`` (6, 6) of :func:`jacobian` in one
+    pass over the chain (``ZO`` (7, 6) work array: each joint's axis and origin)."""
+    _copy_param44(K, L.BASE, T)
+    for i in range(7):
+        if i < 5:
+            th = K[L.SIGN + i] * q[i] + K[L.DH + 4 * i + 3]
+        elif i == 5:
+            th = K[L.SIGN + 5] * (K[L.MIMIC] * q[4] + K[L.MIMIC + 1]) + K[L.DH + 23]
+        else:
+            th = K[L.SIGN + 6] * q[5] + K[L.DH + 27]
+        _dh_step(T, K, L.DH, L.TRIG, i, th)
+        for r in range(3):
+            ZO[i, r] = T[r, 2]
+            ZO[i, 3 + r] = T[r, 3]
+    _times_tool(T, K)
+    for c in range(6):
+        for r in range(6):
+            J[r, c] = 0.0
+    for i in range(7):
+        if i == 5:
+            c = 4
+            w = K[L.SIGN + 5] * K[L.MIMIC]
+        else:
+            c = i if i < 5 else 5
+            w = K[L.SIGN + i]
+        dx = T[0, 3] - ZO[i, 3]
+        dy = T[1, 3] - ZO[i, 4]
+        dz = T[2, 3] - ZO[i, 5]
+        J[0, c] += w * (ZO[i, 1] * dz - ZO[i, 2] * dy)
+        J[1, c] += w * (ZO[i, 2] * dx - ZO[i, 0] * dz)
+        J[2, c] += w * (ZO[i, 0] * dy - ZO[i, 1] * dx)
+        J[3, c] += w * ZO[i, 0]
+        J[4, c] += w * ZO[i, 1]
+        J[5, c] += w * ZO[i, 2]
+
+
+@njit
 def rotation_log(R):
     """Rotation vector (3,) of a rotation matrix (axis * angle), robust near 0 and pi."""
     w = np.empty(3)
@@ -315,22 +353,23 @@ def polish(q, Td, K, max_iter):
     Returns True when the residual is within the robot's tolerances (``POS_TOL`` in the
     length unit, ``ROT_TOL`` in rad). Never claims success it did not verify.
     """
-    return polish_into(q, Td, K, max_iter, np.empty((4, 4)), np.empty((6, 6)), np.empty(6), np.empty(6))
+    return polish_into(q, Td, K, max_iter, np.empty((4, 4)), np.empty((6, 6)), np.empty(6), np.empty(6),
+                       np.empty((7, 6)))
 
 
 @njit
-def polish_into(q, Td, K, max_iter, T, J, e, dq):
-    """:func:`polish` with caller-provided work arrays ``T`` (4, 4), ``J`` (6, 6), ``e``, ``dq`` (6,)."""
+def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO):
+    """:func:`polish` with caller-provided work arrays ``T`` (4, 4), ``J`` (6, 6), ``e``, ``dq``
+    (6,) and ``ZO`` (7, 6)."""
     tol_p = K[L.POS_TOL]
     tol_r = K[L.ROT_TOL]
     for _ in range(max_iter + 1):
-        fk_user(q, K, T)
+        fk_jacobian(q, K, T, J, ZO)
         dp, dr = residual(T, Td)
         if dp <= tol_p and dr <= tol_r:
             return True
         if not (dp < 1e300 and dr < 1e300):
             return False
-        jacobian(q, K, J)
         pose_error(T, Td, e)
         if solve6(J, e, dq) < 1e-14:
             return False

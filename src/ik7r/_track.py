@@ -46,6 +46,7 @@ def track(Ts, K, Bm, bnorm, arm, elbow, wrist, seed, has_seed, within_limits, ma
     J_ = np.empty((6, 6))
     e_ = np.empty(6)
     dq_ = np.empty(6)
+    zo_ = np.empty((7, 6))
     sols = np.empty((L.MAX_SOLUTIONS, 6))
     have_prev = has_seed
     for j in range(6):
@@ -62,7 +63,8 @@ def track(Ts, K, Bm, bnorm, arm, elbow, wrist, seed, has_seed, within_limits, ma
         if have_prev:
             for j in range(6):
                 q[j] = prev[j] + vel[j]
-            if polish_into(q, Ts[i], K, TRACK_ITERATIONS, T_, J_, e_, dq_) and matches(q, arm, elbow, wrist):
+            exact = polish_into(q, Ts[i], K, TRACK_ITERATIONS, T_, J_, e_, dq_, zo_)
+            if exact and matches(q, arm, elbow, wrist):
                 step = 0.0
                 for j in range(6):
                     step = max(step, abs(q[j] - prev[j]))
