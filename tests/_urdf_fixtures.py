@@ -71,8 +71,8 @@ def reference_robots() -> dict[str, Robot]:
             offsets=[0.3, -0.5, 0.2, 1.0, 0.4, 0, -0.7],
             base=transform(rpy_to_matrix([0.1, -0.2, 0.5]), [0.3, -0.1, 0.2]),
             tool=transform(rpy_to_matrix([0.5, 0.2, -1.0]), [0.01, 0.02, 0.15])),
-        "beta449_unequal": family_robot(
-            "beta449_unequal", a1=0.2, a2=0.9, a3=0.1, d1=0.4, d2=0.0, d3=-0.05, d4=1.0, beta_deg=44.9,
+        "beta45_unequal": family_robot(
+            "beta45_unequal", a1=0.2, a2=0.9, a3=0.1, d1=0.4, d2=0.0, d3=-0.05, d4=1.0, beta_deg=45,
             d5=0.08, d6=0.0805, d7=0.1, eps1=-1, sign=[-1, 1, 1, -1, 1, -1, 1],
             offsets=[0, 0.5, -0.2, 0, 0.4, 0, 0.3], coupling=(1.0, 0.2), tool=transform(None, [0, 0, 0.2])),
         "beta40_irb_like": family_robot(

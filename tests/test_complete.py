@@ -301,3 +301,18 @@ def test_manipulability_vanishes_at_singular_wrist(robot):
     w_pi = manipulability(robot, np.radians([60, -30, 60, -30, 180, 30]))
     w_reg = manipulability(robot, np.radians([60, -30, 60, -30, 60, 30]))
     assert abs(w_sing) < 1e-9 * abs(w_reg) and abs(w_pi) < 1e-9 * abs(w_reg)
+
+
+def test_wrist_twist_of_45_deg_complete():
+    """At 45 deg the fully bent wrist's virtual centre is at infinity: still every solution."""
+    dh = np.array(ik7r.load_robot().dh)
+    b = np.radians(45.0)
+    dh[4:7, 1] = [-b, 2 * b, -b]
+    r45 = ik7r.load_robot().replace(dh=dh)
+    rng = np.random.default_rng(45)
+    for q in random_full_q(rng, 300):
+        T = r45.fk(q)
+        sols = r45.ik_all(T)
+        F = r45.fk(sols)
+        assert np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=1).max() < 1e-9
+        assert angle_distance(sols, q).min() < 1e-7, q.tolist()

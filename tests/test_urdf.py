@@ -193,18 +193,18 @@ def test_generated_urdf_fk(name, style, extra_fixed):
     assert np.abs(on_base.fk(q) - invert(B) @ ref.fk(q)).max() < FK_TOL
 
 
-ROUND_TRIP = ["beta30_offsets", "beta40_irb_like", "paper_zero_offsets", "beta449_unequal"]
+ROUND_TRIP = ["beta30_offsets", "beta40_irb_like", "paper_zero_offsets", "beta45_unequal"]
 
 
-def test_wrist_twist_of_45_deg_is_refused_clearly():
+def test_wrist_twist_beyond_45_deg_is_refused_clearly():
     from ik7r.family import MAX_BETA
 
-    dh = np.array(REFS["beta449_unequal"].dh)
-    b = math.radians(45.0)
+    dh = np.array(REFS["beta45_unequal"].dh)
+    b = math.radians(46.0)
     dh[4:7, 1] = np.sign(dh[4:7, 1]) * [b, 2 * b, b]
-    with pytest.raises(ik7r.FamilyError, match=r"joint 5.*44\.9\] deg.*infinity"):
-        REFS["beta449_unequal"].replace(dh=dh)
-    assert math.degrees(MAX_BETA) == pytest.approx(44.9)
+    with pytest.raises(ik7r.FamilyError, match=r"joint 5.*45\] deg; got 46 deg"):
+        REFS["beta45_unequal"].replace(dh=dh)
+    assert math.degrees(MAX_BETA) == pytest.approx(45.0)
 
 
 @pytest.mark.parametrize("name", list(ROUND_TRIP))

@@ -35,6 +35,7 @@ from ._jit import njit
 
 WMIN = 1e-12  # smallest interval width of the subdivision, in units of the search interval
 MAX_ROOTS = 40
+ZERO_WIDTH = 1e-6  # an interval zero within rounding is split further while wider than this
 REFINE_GRID = 32  # grid of an undecided bracket: sign changes and local minima of |f|
 
 
@@ -177,8 +178,8 @@ def residual_of(kind, u, p, a, K):
     ``u^n G(KW / u)`` is a polynomial of the same degree n in u, and u runs over the bounded
     interval ``[cos(2 beta), 1]`` for every wrist twist up to 45 deg (where d is unbounded).
     """
-    if abs(u) < 1e-12:
-        u = math.copysign(1e-12, u)
+    if abs(u) < 1e-6:  # d beyond 1e6 KW: the value is rounding noise there anyway
+        u = math.copysign(1e-6, u)
     v, m = residual_of_d(kind, K[L.KW] / u, p, a, K)
     scale = u ** K[L.NCHEB]
     return v * scale, m * abs(scale)
@@ -187,16 +188,18 @@ def residual_of(kind, u, p, a, K):
 @njit
 def _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b):
     """Bernstein coefficients ``b`` of the residual ``kind`` on [d0, d1], sampled at the
-    Chebyshev points of that interval; returns (rounding bound of b, max |value|)."""
+    Chebyshev points of that interval; returns (rounding bound of b, 1.0 if some sample is
+    nonzero beyond its own rounding else 0.0)."""
     n = Bmat.shape[0] - 1
     vals = np.empty(n + 1)
     magmax = 0.0
-    big = 0.0
+    big = 0.0  # 0 when every sample is zero within its own rounding (a continuum), else 1
     for j in range(n + 1):
         d = 0.5 * (d0 + d1) + 0.5 * (d1 - d0) * math.cos(math.pi * j / n)
         vals[j], mag = residual_of(kind, d, p, a, K)
         magmax = max(magmax, mag)
-        big = max(big, abs(vals[j]))
+        if abs(vals[j]) > 64.0 * 2.220446049250313e-16 * mag:
+            big = 1.0
     for i in range(n + 1):
         s = 0.0
         for j in range(n + 1):
@@ -204,6 +207,8 @@ def _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b):
         b[i] = s
     # each value errs by at most ~16 ulps of its term magnitude; the conversion multiplies the
     # errors by at most bnorm
+    if not (magmax < 1e300):
+        return np.inf, big
     return 64.0 * 2.220446049250313e-16 * bnorm * magmax, big
 
 
@@ -249,8 +254,8 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure):
     hi = np.empty(64)
     b = np.empty(nb)
     noise[0], big = _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b)
-    if big <= noise[0]:
-        return -1
+    if big == 0.0:
+        return -1  # zero within rounding at every sample: a continuum
     stack[0, :] = b
     fresh[0] = True
     lo[0] = 0.0
@@ -284,7 +289,7 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure):
             fresh[top] = True
             top += 1
             continue
-        if npos + nneg == 0:
+        if npos + nneg == 0 and t1 - t0 <= ZERO_WIDTH:
             # zero within rounding over the whole (freshly sampled) interval: nothing more
             # can be decided here; hand it to refine() as one undecided bracket
             count = _emit(blo, bhi, bsure, count, d0 + width * t0, d0 + width * t1, False)

@@ -6,7 +6,7 @@ A member is a serial chain of seven revolute joints in Craig's modified DH conve
   ``alpha3 = +-90 deg``; any shoulder offset ``a1``, upper arm ``a2``, elbow offset ``a3``,
   lateral offset ``d2 + d3``, base height ``d1`` and forearm ``d4``;
 * a hollow wrist whose axes 4-5, 5-6 and 6-7 intersect (``a4 = a5 = a6 = 0``) with twists
-  ``(-beta, 2 beta, -beta)``, ``0 < |beta| <= 44.9 deg`` (:data:`MAX_BETA`), equal offsets
+  ``(-beta, 2 beta, -beta)``, ``0 < |beta| <= 45 deg`` (:data:`MAX_BETA`), equal offsets
   ``d5 = d6`` and a flange
   offset ``d7``;
 * joint 6 mirror-coupled to joint 5 (``theta6 = -theta5`` in DH angles).
@@ -30,9 +30,10 @@ ANGLE_TOL = 1e-3
 #: Offsets that must vanish (a4, a5, a6) and the difference d5 - d6 must stay within this
 #: fraction of the robot's size (about 1 mm on a 1 m arm).
 LENGTH_TOL = 1e-3
-#: Largest wrist twist (rad) the complete solver is certified for: 44.9 deg. At 45 deg the
-#: virtual wrist centre of the fully bent wrist is at infinity and the search degenerates.
-MAX_BETA = math.radians(44.9)
+#: Largest wrist twist (rad): 45 deg. There the fully bent wrist (theta5 = 180 deg) folds axis 7
+#: back parallel to axis 4 and its virtual wrist centre is at infinity (the search runs in
+#: u = 1 / d, which stays bounded).
+MAX_BETA = math.radians(45.0)
 
 
 @dataclass(frozen=True)
@@ -114,10 +115,11 @@ def family_of(dh: np.ndarray, sign: np.ndarray, coupling: tuple[float, float],
                  -math.remainder(al[6], 2 * math.pi))
     if max(estimates) - min(estimates) > 1e-14:
         beta = sum(estimates) / 3.0
-    if not 1e-6 < abs(beta) <= MAX_BETA + 1e-9:
+    if not 1e-6 < abs(beta) <= MAX_BETA + ANGLE_TOL:
         raise fail(4, f"the wrist twist beta must be within (0, {math.degrees(MAX_BETA):g}] deg; got "
-                      f"{math.degrees(beta):.6g} deg (at 45 deg the fully bent wrist folds axis 7 back "
-                      "parallel to axis 4 and the virtual wrist centre goes to infinity)")
+                      f"{math.degrees(beta):.6g} deg (beyond 45 deg the fully bent wrist would fold axis 7 "
+                      "back past axis 4)")
+    beta = math.copysign(min(abs(beta), MAX_BETA), beta)
     if abs(d[4] - d[5]) > ltol:
         raise fail(5, f"the wrist must be a mirror: d5 = d6 within {ltol:.3g}; got {d[4]:.6g} and {d[5]:.6g}")
     m, c = coupling
