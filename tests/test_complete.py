@@ -316,3 +316,29 @@ def test_wrist_twist_of_45_deg_complete():
         F = r45.fk(sols)
         assert np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=1).max() < 1e-9
         assert angle_distance(sols, q).min() < 1e-7, q.tolist()
+
+
+@pytest.mark.parametrize("name", ["paper", "irb5400"])
+def test_ik_per_configuration_agrees_with_ik_all(name):
+    """ik / ik_batch search one configuration only: same answer as picking from ik_all."""
+    r = ik7r.load_robot(name)
+    rng = np.random.default_rng(31)
+    Q = rng.uniform(r.lower, r.upper, (60, 6))
+    T = r.fk(Q)
+    for config in range(1, 9):
+        qb, ok = r.ik_batch(T, config)
+        for i in range(len(Q)):
+            sols = r.ik_all(T[i])
+            c = r.config_of(sols)
+            folded = np.pi - np.abs(sols[:, 4]) < 1e-9
+            arm_elbow = (c - 1) // 2 == (config - 1) // 2
+            pool = sols[(c == config) | (folded & arm_elbow)]
+            if len(pool) == 0:
+                assert not ok[i]
+                with pytest.raises(ik7r.UnreachableError):
+                    r.ik(T[i], config)
+                continue
+            best = pool[np.argmin(np.linalg.norm(wrap(pool), axis=1))]
+            assert ok[i]
+            assert angle_distance(qb[i], best) < 1e-7
+            assert angle_distance(r.ik(T[i], config), best) < 1e-7

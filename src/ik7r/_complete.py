@@ -44,6 +44,10 @@ NEAR_SINGULAR = 2e-3
 #: magnitude of the residual's terms) a local minimum of |residual| must come.
 NEAR_GRID = 64
 NEAR_RATIO = 1e-2
+#: solve_config skips candidates whose indicators differ beyond this margin (rad) from a
+#: boundary (larger for deviating models, whose polish moves the joints further).
+FILTER_MARGIN = 1e-3
+FILTER_MARGIN_DEVIATING = 0.1
 #: Window (rad) around theta5 = pi where nearly folded solutions merge into the folded one.
 FOLD_WINDOW = 1e-4
 
@@ -195,8 +199,24 @@ def _arm_from_psi(d, rho, cp, sp, pz, th1, K, th):
 
 
 @njit
-def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count):
-    """Complete DH theta1..3 with the wrist for offset ``d``; accept every exact solution."""
+def _may_match(angle, indicator, margin):
+    """Whether a joint angle (rad) may have the indicator (1: in [-pi/2, pi/2)) once polished:
+    True when it is within ``margin`` of a boundary."""
+    w = wrap(angle)
+    if abs(abs(w) - 0.5 * math.pi) < margin:
+        return True
+    return (1 if -0.5 * math.pi <= w < 0.5 * math.pi else 0) == indicator
+
+
+@njit
+def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt=-1):
+    """Complete DH theta1..3 with the wrist for offset ``d``; accept every exact solution
+    (with ``filt`` >= 0, only those that may have its indicators: see :func:`solve_config`)."""
+    margin = FILTER_MARGIN if K[L.DEVIATION] == 0.0 else FILTER_MARGIN_DEVIATING
+    if filt >= 0:
+        if not (_may_match(user_angle(0, th[0], K), filt >> 2, margin)
+                and _may_match(user_angle(2, th[2], K), (filt >> 1) & 1, margin)):
+            return count
     M = np.eye(4)
     chain(th, K, 0, 3, M, L.NDH)
     Q = np.empty((3, 3))
@@ -237,6 +257,10 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count):
         elif t5 < NEAR_SINGULAR:
             t5_alt = NEAR_SINGULAR
     for sgn in (1.0, -1.0):
+        if filt >= 0 and margin < t5 < math.pi - margin:
+            q5 = wrap(user_angle(4, sgn * t5, K))
+            if (1 if 0.0 <= q5 < math.pi else 0) != (filt & 1):
+                continue
         t4, t7 = wrist_ik(Q, sgn * t5, t4_hint, K)
         qq = q.copy()
         qq[3] = user_angle(3, t4, K)
@@ -254,7 +278,7 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count):
 
 
 @njit
-def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count):
+def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt=-1):
     """Every exact solution whose virtual offset is the root ``d``."""
     t = K[L.D7] + d
     px = p[0] - t * a[0]
@@ -278,7 +302,7 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count):
             sp = psi[k, 1]
             if abs(sp) * axy < 1e-12:
                 _arm_from_psi(d, 0.0, cp, sp, pz, t1h, K, th)
-                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count)
+                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt)
                 continue
             target = (cphi * K[L.EPS3] + K[L.EPS1] * cp * a[2]) / (sp * axy)
             if abs(target) > 1.0 + 1e-9:
@@ -287,7 +311,7 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count):
             dev = math.acos(max(-1.0, min(1.0, target)))
             for sg in (1.0, -1.0):
                 _arm_from_psi(d, 0.0, cp, sp, pz, base + sg * dev, K, th)
-                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count)
+                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt)
         return count
     s2 = r2 - b * b
     if s2 < -(1e-9 * scale) ** 2:
@@ -301,7 +325,7 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count):
         th1 = math.atan2(rho * py - bp * px, rho * px + bp * py)
         for k in range(n):
             _arm_from_psi(d, rho, psi[k, 0], psi[k, 1], pz, th1, K, th)
-            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count)
+            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt)
         if s == 0.0:
             break
     return count
@@ -363,7 +387,7 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
 
 
 @njit
-def _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count):
+def _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt=-1):
     """Axis 7 on axis 1 (P' on axis 1 for every d): theta1 is free. Take it from the hint
     (else 0) and solve the remaining 1-D problem with the same certified root isolation."""
     roots = np.empty(ROOT_CAP)
@@ -378,7 +402,7 @@ def _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count):
         a21, a22, c = bend_row_on_axis(d, a, K)
         for k2 in range(_psi_candidates(a11, a12, m, a21, a22, c, psi)):
             _arm_from_psi(d, 0.0, psi[k2, 0], psi[k2, 1], pz, th1, K, th)
-            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count)
+            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt)
     return count
 
 
@@ -408,6 +432,20 @@ def solve_all(Td, K, Bm, bnorm, hint, has_hint, out):
     Returns the number of solutions (angles wrapped to (-pi, pi], no duplicates). ``hint``
     (6,) chooses the free joints at singular poses when ``has_hint``.
     """
+    return _solve(Td, K, Bm, bnorm, hint, has_hint, out, -1)
+
+
+@njit
+def solve_config(Td, K, Bm, bnorm, hint, has_hint, arm, elbow, wrist, out):
+    """:func:`solve_all` for one configuration: every exact solution that has the indicators
+    (arm, elbow, wrist), and possibly others. The root search is the same; only candidates
+    whose arm and wrist clearly (beyond a margin) have other indicators are not verified,
+    which skips most of the forward kinematics checks."""
+    return _solve(Td, K, Bm, bnorm, hint, has_hint, out, 4 * arm + 2 * elbow + wrist)
+
+
+@njit
+def _solve(Td, K, Bm, bnorm, hint, has_hint, out, filt):
     T07 = np.empty((4, 4))
     frame07(Td, K, T07)
     p = T07[:3, 3].copy()
@@ -420,7 +458,7 @@ def solve_all(Td, K, Bm, bnorm, hint, has_hint, out):
     nr = _roots(0, p, a, K, Bm, bnorm, roots)
     count = 0
     if nr < 0:
-        return _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count)
+        return _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt)
     last = -1e300
     folded = False
     for k in range(nr):
@@ -431,8 +469,8 @@ def solve_all(Td, K, Bm, bnorm, hint, has_hint, out):
         if not folded and _u_fold(K) > 1e-9 and math.pi - theta5_of_d(d, K) < FOLD_WINDOW:
             # near theta5 = pi the residual is flat: try the folded wrist's own d first
             folded = True
-            count = _solutions_at(K[L.DMAX], p, a, R07, Td, K, hint, has_hint, out, count)
-        count = _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count)
+            count = _solutions_at(K[L.DMAX], p, a, R07, Td, K, hint, has_hint, out, count, filt)
+        count = _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt)
     if folded:
         count = _merge_folded(out, count)
     return count

@@ -9,7 +9,7 @@ import numpy as np
 
 from . import _layout as L
 from ._checks import validate_pose
-from ._complete import solve_all, wrap
+from ._complete import solve_all, solve_config, wrap
 from ._jit import njit
 
 HALF_PI = 0.5 * math.pi
@@ -114,7 +114,7 @@ def solve_config_batch(Ts, K, Bm, bnorm, arm, elbow, wrist, seeds, has_seed,
         ok_out[i] = False
         if not ok_in[i]:
             continue
-        n = solve_all(Ts[i], K, Bm, bnorm, seeds[i], has_seed, sols)
+        n = solve_config(Ts[i], K, Bm, bnorm, seeds[i], has_seed, arm, elbow, wrist, sols)
         ok_out[i] = select(sols, n, arm, elbow, wrist, seeds[i], within_limits, K, q_out[i])
 
 
@@ -227,8 +227,10 @@ def ik_one(T, tol, K, Bm, bnorm, arm, elbow, wrist, hint, has_hint, within_limit
         return -1, False
     if has_hint and not _finite6(hint):
         return -2, False
-    n = solve_all(clean, K, Bm, bnorm, hint, has_hint, sols)
+    n = solve_config(clean, K, Bm, bnorm, hint, has_hint, arm, elbow, wrist, sols)
     found = select(sols[:max(1, n)], n, arm, elbow, wrist, hint, within_limits, K, q_out)
+    if not found:  # the whole solution set, for the caller's message
+        n = solve_all(clean, K, Bm, bnorm, hint, has_hint, sols)
     return n, found
 
 
@@ -243,7 +245,7 @@ def config_rows(Ts, K, Bm, bnorm, arm, elbow, wrist, seeds, has_seed, within_lim
         seed = seeds[i] if per_row else seeds[0]
         ok = False
         if ok_in[i]:
-            n = solve_all(Ts[i], K, Bm, bnorm, seed, has_seed, sols)
+            n = solve_config(Ts[i], K, Bm, bnorm, seed, has_seed, arm, elbow, wrist, sols)
             ok = select(sols, n, arm, elbow, wrist, seed, within_limits, K, q_out[i])
         ok_out[i] = ok
         if not ok:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _layout as L
-from ._complete import solve_all, wrap
+from ._complete import solve_config, wrap
 from ._jit import njit
 from ._kin import polish_into
 from ._select import matches, select
@@ -73,7 +73,7 @@ def track(Ts, K, Bm, bnorm, arm, elbow, wrist, seed, has_seed, within_limits, ma
                     tracked_out[i] = True
         if not done:
             full += 1
-            m = solve_all(Ts[i], K, Bm, bnorm, prev, have_prev, sols)
+            m = solve_config(Ts[i], K, Bm, bnorm, prev, have_prev, arm, elbow, wrist, sols)
             if select(sols, m, arm, elbow, wrist, prev, within_limits, K, q):
                 if have_prev and not within_limits:
                     for j in range(6):  # continue the previous turn of every joint
