@@ -180,7 +180,7 @@ def paint_raster(robot, *, duration: float = 20.0, config=1, origin=DEFAULT_ORIG
     plane parallel to the base's x-o-y, passes 100 mm apart along x, gun orientation
     :data:`GUN_DOWN` (x along the base's x, y and z opposite), no standoff, samples every
     5 mm, configuration 1, 20 s. Configuration 1 reaches it everywhere within the paper robot's
-    Table 4 limits, far from singularities (``docs/painting.md``).
+    Table 4 limits, far from singularities (the README, "Off-line painting programs").
 
     Parameters
     ----------

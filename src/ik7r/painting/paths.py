@@ -43,7 +43,8 @@ __all__ = [
 GUN_DOWN = np.diag([1.0, -1.0, -1.0])
 
 #: Centre of the default raster rectangle in the base frame of the paper robot (mm). See
-#: ``docs/painting.md``: configuration 1 reaches the default raster (with its turns) everywhere
+#: the README, "Off-line painting programs": configuration 1 reaches the default raster (with its
+#: turns) everywhere
 #: within the Table 4 limits, with theta5 between 44 and 58 deg (far from the wrist
 #: singularities at 0 and 180 deg), every joint at least 30 deg inside its limits, and the
 #: Jacobian's condition number (positions in m) between 4.9 and 5.6.

@@ -164,7 +164,8 @@ def write_report(path, *, plan, table2_rows, table3_rows, table5_rows, studies, 
     add(f"- This machine: {machine_description()}.")
     add(f"- The paper's machine: {PAPER_PLATFORM}.")
     add("- Robot: the paper's Table 1 (Craig's modified DH, theta6 = -theta5), Table 4 as joint limits; "
-        "lengths in mm, angles in degrees. Conventions and the paper's OCR slips: `docs/reproduce.md`.")
+        "lengths in mm, angles in degrees. Conventions and the paper's OCR slips: ik7r's README "
+        "('Reproducing the paper').")
     add("- Two solvers: **the paper's method** (`robot.ik_paper`, the fixed-point iteration on theta5 of its "
         "Figure 5, random theta5 start, stop when the theta5 increment is <= 1e-14 rad) and **the complete "
         "solver** (`robot.ik` / `robot.ik_all`, every solution, each verified by forward kinematics).\n")
@@ -374,7 +375,7 @@ def write_report(path, *, plan, table2_rows, table3_rows, table5_rows, studies, 
     if plan.quick:
         add("\n*Quick run*: fewer random targets, repeats and grid points than the paper; run "
             "`ik7r reproduce --out DIR` for the full sizes.")
-    add("\nCSV columns are described in `docs/reproduce.md`.")
+    add("\nCSV columns are described in ik7r's README ('Reproducing the paper').")
     path.write_text("\n".join(L) + "\n")
     return path
 
