@@ -48,7 +48,8 @@ NEAR_RATIO = 1e-2
 #: boundary (larger for deviating models, whose polish moves the joints further).
 FILTER_MARGIN = 1e-3
 FILTER_MARGIN_DEVIATING = 0.1
-#: Window (rad) around theta5 = pi where nearly folded solutions merge into the folded one.
+#: Window (rad) around theta5 = 0 and pi where solutions are tried at exactly 0 or pi first, and
+#: where nearly folded solutions merge into the folded one.
 FOLD_WINDOW = 1e-4
 
 
@@ -226,7 +227,7 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt=-1):
     for i in range(3):
         q[i] = user_angle(i, th[i], K)
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.DH + 15]
-    if t5 < 1e-4:
+    if t5 < FOLD_WINDOW:
         # straight wrist: one member of the theta4 + theta7 family
         qs = q.copy()
         qs[4] = user_angle(4, 0.0, K)
@@ -238,14 +239,9 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt=-1):
         t5 = theta5_of_bend(Q, K)
         if t5 == 0.0:
             return count
-    if math.pi - t5 < 1e-4:
+    if math.pi - t5 < FOLD_WINDOW:
         # fully bent wrist: the two wrist solutions merge into one, at theta5 = pi exactly
-        t4, t7 = wrist_ik(Q, math.pi, t4_hint, K)
-        qf = q.copy()
-        qf[3] = user_angle(3, t4, K)
-        qf[4] = user_angle(4, math.pi, K)
-        qf[5] = user_angle(6, t7, K)
-        count, exact = _accept(qf, Td, K, out, count, True)
+        count, exact = _accept(_with_wrist(q, Q, math.pi, t4_hint, K), Td, K, out, count, True)
         if exact:
             return count
     # a model that is not exactly the idealised one (rounded published numbers): a start on
@@ -261,20 +257,22 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt=-1):
             q5 = wrap(user_angle(4, sgn * t5, K))
             if (1 if 0.0 <= q5 < math.pi else 0) != (filt & 1):
                 continue
-        t4, t7 = wrist_ik(Q, sgn * t5, t4_hint, K)
-        qq = q.copy()
-        qq[3] = user_angle(3, t4, K)
-        qq[4] = user_angle(4, sgn * t5, K)
-        qq[5] = user_angle(6, t7, K)
-        count, exact = _accept(qq, Td, K, out, count)
+        count, _ = _accept(_with_wrist(q, Q, sgn * t5, t4_hint, K), Td, K, out, count)
         if t5_alt > 0.0:  # (both signs polish from one singular point: also start off it)
-            t4, t7 = wrist_ik(Q, sgn * t5_alt, t4_hint, K)
-            qq[:3] = q[:3]
-            qq[3] = user_angle(3, t4, K)
-            qq[4] = user_angle(4, sgn * t5_alt, K)
-            qq[5] = user_angle(6, t7, K)
-            count, _ = _accept(qq, Td, K, out, count, False, False)
+            count, _ = _accept(_with_wrist(q, Q, sgn * t5_alt, t4_hint, K), Td, K, out, count,
+                               False, False)
     return count
+
+
+@njit
+def _with_wrist(q, Q, t5, t4_hint, K):
+    """A copy of ``q`` (arm joints set) completed with the wrist for DH angle ``t5``."""
+    t4, t7 = wrist_ik(Q, t5, t4_hint, K)
+    qq = q.copy()
+    qq[3] = user_angle(3, t4, K)
+    qq[4] = user_angle(4, t5, K)
+    qq[5] = user_angle(6, t7, K)
+    return qq
 
 
 @njit
@@ -497,13 +495,3 @@ def _merge_folded(out, count):
                 out[keep, j] = out[s, j]
             keep += 1
     return keep
-
-
-@njit
-def solve_all_batch(Ts, K, Bm, bnorm, hints, has_hint, ok_in, out, counts):
-    """:func:`solve_all` for every pose of ``Ts`` (N, 4, 4) whose ``ok_in`` is True."""
-    for i in range(Ts.shape[0]):
-        if ok_in[i]:
-            counts[i] = solve_all(Ts[i], K, Bm, bnorm, hints[i], has_hint, out[i])
-        else:
-            counts[i] = 0

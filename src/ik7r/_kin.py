@@ -19,29 +19,19 @@ MAX_POLISH_STEP = 0.1
 
 
 @njit
-def dh_angles(q, K, theta):
-    """User joints ``q`` (6,) -> the seven DH angles ``theta`` (7,) (coupling folded in)."""
-    q6 = K[L.MIMIC] * q[4] + K[L.MIMIC + 1]
-    for i in range(5):
-        theta[i] = K[L.SIGN + i] * q[i] + K[L.DH + 4 * i + 3]
-    theta[5] = K[L.SIGN + 5] * q6 + K[L.DH + 23]
-    theta[6] = K[L.SIGN + 6] * q[5] + K[L.DH + 27]
+def _dh_angle(q, K, i):
+    """DH angle of joint ``i`` (0-based) for user joints ``q`` (6,) (coupling folded in)."""
+    if i < 5:
+        return K[L.SIGN + i] * q[i] + K[L.DH + 4 * i + 3]
+    if i == 5:
+        return K[L.SIGN + 5] * (K[L.MIMIC] * q[4] + K[L.MIMIC + 1]) + K[L.DH + 23]
+    return K[L.SIGN + 6] * q[5] + K[L.DH + 27]
 
 
 @njit
 def user_angle(i, theta_i, K):
     """DH angle of joint ``i`` (0-based, 0..6 except 5) -> user angle."""
     return (theta_i - K[L.DH + 4 * i + 3]) * K[L.SIGN + i]
-
-
-@njit
-def _mul44(A, B, out):
-    for i in range(4):
-        for j in range(4):
-            s = 0.0
-            for k in range(4):
-                s += A[i, k] * B[k, j]
-            out[i, j] = s
 
 
 @njit
@@ -59,20 +49,7 @@ def chain(theta, K, first, last, M, table=L.DH):
     """
     trig = L.TRIG if table == L.DH else L.TRIG + 14
     for i in range(first, last):
-        a = K[table + 4 * i]
-        d = K[table + 4 * i + 2]
-        ca = K[trig + 2 * i]
-        sa = K[trig + 2 * i + 1]
-        ct = math.cos(theta[i])
-        st = math.sin(theta[i])
-        for r in range(3):
-            x = M[r, 0]
-            y = M[r, 1] * ca + M[r, 2] * sa
-            z = -M[r, 1] * sa + M[r, 2] * ca
-            M[r, 3] += a * x + d * z
-            M[r, 0] = ct * x + st * y
-            M[r, 1] = -st * x + ct * y
-            M[r, 2] = z
+        _dh_step(M, K, table, trig, i, theta[i])
 
 
 @njit
@@ -107,55 +84,31 @@ def _times_tool(M, K):
 
 
 @njit
-def fk_theta(theta, K, out):
-    """World <- tool transform for DH angles ``theta`` (7,)."""
-    _copy_param44(K, L.BASE, out)
-    for i in range(7):
-        _dh_step(out, K, L.DH, L.TRIG, i, theta[i])
-    _times_tool(out, K)
-
-
-@njit
 def fk_user(q, K, out):
     """World <- tool transform for user joints ``q`` (6,) (no allocation)."""
     _copy_param44(K, L.BASE, out)
-    for i in range(5):
-        _dh_step(out, K, L.DH, L.TRIG, i, K[L.SIGN + i] * q[i] + K[L.DH + 4 * i + 3])
-    q6 = K[L.MIMIC] * q[4] + K[L.MIMIC + 1]
-    _dh_step(out, K, L.DH, L.TRIG, 5, K[L.SIGN + 5] * q6 + K[L.DH + 23])
-    _dh_step(out, K, L.DH, L.TRIG, 6, K[L.SIGN + 6] * q[5] + K[L.DH + 27])
+    for i in range(7):
+        _dh_step(out, K, L.DH, L.TRIG, i, _dh_angle(q, K, i))
     _times_tool(out, K)
 
 
 @njit
 def fk_batch(Q, K, out):
     """``Q`` (N, 6) -> ``out`` (N, 4, 4)."""
-    theta = np.empty(7)
-    M = np.empty((4, 4))
-    Tt = np.empty((4, 4))
-    _copy_param44(K, L.TOOL, Tt)
     for n in range(Q.shape[0]):
-        dh_angles(Q[n], K, theta)
-        _copy_param44(K, L.BASE, M)
-        chain(theta, K, 0, 7, M)
-        _mul44(M, Tt, out[n])
+        fk_user(Q[n], K, out[n])
 
 
 @njit
 def frames_batch(Q, K, out):
     """``Q`` (N, 6) -> world frames ``out`` (N, 9, 4, 4): base (frame 0), frames 1..7, tool."""
-    theta = np.empty(7)
-    M = np.empty((4, 4))
-    Tt = np.empty((4, 4))
-    _copy_param44(K, L.TOOL, Tt)
     for n in range(Q.shape[0]):
-        dh_angles(Q[n], K, theta)
-        _copy_param44(K, L.BASE, M)
-        out[n, 0] = M
+        _copy_param44(K, L.BASE, out[n, 0])
         for i in range(7):
-            chain(theta, K, i, i + 1, M)
-            out[n, i + 1] = M
-        _mul44(M, Tt, out[n, 8])
+            out[n, i + 1] = out[n, i]
+            _dh_step(out[n, i + 1], K, L.DH, L.TRIG, i, _dh_angle(Q[n], K, i))
+        out[n, 8] = out[n, 7]
+        _times_tool(out[n, 8], K)
 
 
 @njit
@@ -165,39 +118,7 @@ def jacobian(q, K, J):
     Rows: linear velocity of the tool origin, then angular velocity. Columns: the six
     independent joints; joint 6 is folded into the column of joint 5 through the coupling.
     """
-    theta = np.empty(7)
-    dh_angles(q, K, theta)
-    M = np.empty((4, 4))
-    _copy_param44(K, L.BASE, M)
-    z = np.empty((7, 3))
-    o = np.empty((7, 3))
-    for i in range(7):
-        chain(theta, K, i, i + 1, M)
-        for r in range(3):
-            z[i, r] = M[r, 2]
-            o[i, r] = M[r, 3]
-    p = np.empty(3)
-    for r in range(3):
-        p[r] = M[r, 3] + M[r, 0] * K[L.TOOL + 3] + M[r, 1] * K[L.TOOL + 7] + M[r, 2] * K[L.TOOL + 11]
-    for c in range(6):
-        for r in range(6):
-            J[r, c] = 0.0
-    for i in range(7):
-        if i == 5:
-            c = 4
-            w = K[L.SIGN + 5] * K[L.MIMIC]
-        else:
-            c = i if i < 5 else 5
-            w = K[L.SIGN + i]
-        dx = p[0] - o[i, 0]
-        dy = p[1] - o[i, 1]
-        dz = p[2] - o[i, 2]
-        J[0, c] += w * (z[i, 1] * dz - z[i, 2] * dy)
-        J[1, c] += w * (z[i, 2] * dx - z[i, 0] * dz)
-        J[2, c] += w * (z[i, 0] * dy - z[i, 1] * dx)
-        J[3, c] += w * z[i, 0]
-        J[4, c] += w * z[i, 1]
-        J[5, c] += w * z[i, 2]
+    fk_jacobian(q, K, np.empty((4, 4)), J, np.empty((7, 6)))
 
 
 @njit
@@ -206,13 +127,7 @@ def fk_jacobian(q, K, T, J, ZO):
     pass over the chain (``ZO`` (7, 6) work array: each joint's axis and origin)."""
     _copy_param44(K, L.BASE, T)
     for i in range(7):
-        if i < 5:
-            th = K[L.SIGN + i] * q[i] + K[L.DH + 4 * i + 3]
-        elif i == 5:
-            th = K[L.SIGN + 5] * (K[L.MIMIC] * q[4] + K[L.MIMIC + 1]) + K[L.DH + 23]
-        else:
-            th = K[L.SIGN + 6] * q[5] + K[L.DH + 27]
-        _dh_step(T, K, L.DH, L.TRIG, i, th)
+        _dh_step(T, K, L.DH, L.TRIG, i, _dh_angle(q, K, i))
         for r in range(3):
             ZO[i, r] = T[r, 2]
             ZO[i, 3 + r] = T[r, 3]

@@ -104,20 +104,6 @@ def select(sols, n, arm, elbow, wrist, seed, within_limits, K, q_out):
     return True
 
 
-@njit
-def solve_config_batch(Ts, K, Bm, bnorm, arm, elbow, wrist, seeds, has_seed,
-                       within_limits, ok_in, q_out, ok_out):
-    """One configuration for every pose of ``Ts`` (N, 4, 4); rows with ``ok_in`` False are
-    skipped. ``seeds`` (N, 6) chooses among solutions sharing the indicators."""
-    sols = np.empty((L.MAX_SOLUTIONS, 6))
-    for i in range(Ts.shape[0]):
-        ok_out[i] = False
-        if not ok_in[i]:
-            continue
-        n = solve_config(Ts[i], K, Bm, bnorm, seeds[i], has_seed, arm, elbow, wrist, sols)
-        ok_out[i] = select(sols, n, arm, elbow, wrist, seeds[i], within_limits, K, q_out[i])
-
-
 # ---------------------------------------------------------------------- fused entry points
 # One compiled call per public call: the Python side only allocates and raises.
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .checks import check_config, check_joints, transforms_status
+from .checks import check_config, check_joints, poses_status
 
 __all__ = ["PathIK", "ik_path"]
 
@@ -70,7 +70,7 @@ def ik_path(robot, T, config=1, *, seed=None, within_limits: bool = False,
     from .solve import _matrices
 
     arm, elbow, wrist = check_config(config)
-    Tc, good, _ = transforms_status(T)
+    Tc, good = poses_status(T)
     if Tc.ndim != 3:
         raise ValueError(f"T must have shape (N, 4, 4) (a path of poses); got {Tc.shape}")
     if not (np.isfinite(max_step) and max_step > 0):

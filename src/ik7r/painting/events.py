@@ -189,37 +189,39 @@ class NearSingularity(PathEvent):
 
 
 @dataclass(frozen=True)
-class SpeedLimit(PathEvent):
-    """The interpolated speed of joint ``joint`` reaches ``peak`` (rad/s) at ``time`` (s),
-    above its limit ``limit``."""
+class _JointLimitExceeded(PathEvent):
+    """The interpolated speed or acceleration of joint ``joint`` reaches ``peak`` at ``time``
+    (s), above its limit ``limit`` (rad/s or rad/s^2, per subclass)."""
 
     joint: int
     peak: float
     limit: float
     time: float
-    kind: ClassVar[str] = "speed limit"
+    rate_unit: ClassVar[str] = ""
 
     def message(self) -> str:
-        return (f"speed limit: {JOINT_LABELS[self.joint]} reaches {math.degrees(self.peak):.3f} deg/s at "
+        u = self.rate_unit
+        return (f"{self.kind}: {JOINT_LABELS[self.joint]} reaches {math.degrees(self.peak):.3f} {u} at "
                 f"t = {self.time:.4f} s, {self.peak / self.limit:.2f} x its limit "
-                f"{math.degrees(self.limit):.3f} deg/s")
+                f"{math.degrees(self.limit):.3f} {u}")
 
 
 @dataclass(frozen=True)
-class AccelerationLimit(PathEvent):
+class SpeedLimit(_JointLimitExceeded):
+    """The interpolated speed of joint ``joint`` reaches ``peak`` (rad/s) at ``time`` (s),
+    above its limit ``limit``."""
+
+    kind: ClassVar[str] = "speed limit"
+    rate_unit: ClassVar[str] = "deg/s"
+
+
+@dataclass(frozen=True)
+class AccelerationLimit(_JointLimitExceeded):
     """The interpolated acceleration of joint ``joint`` reaches ``peak`` (rad/s^2) at ``time``,
     above its limit ``limit``."""
 
-    joint: int
-    peak: float
-    limit: float
-    time: float
     kind: ClassVar[str] = "acceleration limit"
-
-    def message(self) -> str:
-        return (f"acceleration limit: {JOINT_LABELS[self.joint]} reaches {math.degrees(self.peak):.3f} "
-                f"deg/s^2 at t = {self.time:.4f} s, {self.peak / self.limit:.2f} x its limit "
-                f"{math.degrees(self.limit):.3f} deg/s^2")
+    rate_unit: ClassVar[str] = "deg/s^2"
 
 
 @dataclass(frozen=True)

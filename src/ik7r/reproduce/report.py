@@ -8,8 +8,6 @@ from __future__ import annotations
 
 import csv
 import math
-import os
-import platform
 from pathlib import Path
 
 import numpy as np
@@ -103,17 +101,10 @@ def write_table5(rows, path, unit: str = "mm") -> Path:
 
 def machine_description() -> str:
     """One line describing this computer (CPU model, cores, Python and numpy versions)."""
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as fh:
-            for line in fh:
-                if line.startswith("model name"):
-                    cpu = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    return f"{cpu}, {cores} cores available, Python {platform.python_version()}, numpy {np.__version__}"
+    from ..benchmark import machine_info
+
+    m = machine_info()
+    return f"{m['cpu']}, {m['usable_cores']} cores available, Python {m['python']}, numpy {m['numpy']}"
 
 
 def _md_table(header, rows) -> str:
