@@ -21,6 +21,7 @@ from . import _layout as L
 from ._jit import njit
 from ._kin import chain, fk_user, polish, residual, user_angle
 from ._poly import (
+    ISOLATE_WORK,
     REFINE_GRID,
     _golden,
     bend_row_on_axis,
@@ -29,7 +30,7 @@ from ._poly import (
     refine,
     residual_of,
 )
-from ._wrist import theta5_of_bend, theta5_of_d, wrist_ik, wrist_target
+from ._wrist import d_of_theta5, theta5_of_bend, theta5_of_d, wrist_ik_into, wrist_target
 
 TWO_PI = 2.0 * math.pi
 DUP_TOL = 1e-5  # two solutions closer than this (rad, every joint) are one (near a singular arm or
@@ -52,6 +53,31 @@ FILTER_MARGIN_DEVIATING = 0.1
 #: where nearly folded solutions merge into the folded one.
 FOLD_WINDOW = 1e-4
 
+#: Largest number of Bernstein coefficients (degree 16 + 1) and of brackets.
+_NB = 17
+_NBRACKETS = 24
+
+
+def _offsets(**sizes):
+    """Consecutive offsets of named blocks in one work array, and its total size."""
+    out, at = {}, 0
+    for name, size in sizes.items():
+        out[name] = at
+        at += size
+    return out, at
+
+
+# One work array per pose (a single allocation; see _solve) holds every scratch block.
+_W, WORK_SIZE = _offsets(
+    T07=16, P=3, A=3, R07=9, PSI=4, TH=3, M=16, Q=9, Q6=6, QQ=6, T=16, WR=9,
+    BLO=_NBRACKETS, BHI=_NBRACKETS, BSURE=_NBRACKETS, FOUND=REFINE_GRID + 2,
+    BCOEF=_NBRACKETS * _NB, CAST=_NB, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP,
+)
+_T07, _P, _A, _R07, _PSI, _TH = _W["T07"], _W["P"], _W["A"], _W["R07"], _W["PSI"], _W["TH"]
+_M, _Q, _Q6, _QQ, _T, _WR = _W["M"], _W["Q"], _W["Q6"], _W["QQ"], _W["T"], _W["WR"]
+_BLO, _BHI, _BSURE, _FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
+_BCOEF, _CAST, _ISO, _ROOTS = _W["BCOEF"], _W["CAST"], _W["ISO"], _W["ROOTS"]
+
 
 @njit
 def wrap(x):
@@ -65,19 +91,20 @@ def wrap(x):
 @njit
 def frame07(Td, K, T07):
     """Frame 0 <- 7 of a world <- tool target: ``BASE^-1 Td TOOL^-1``."""
-    M = np.empty((4, 4))
     for i in range(4):
+        m0 = 0.0
+        m1 = 0.0
+        m2 = 0.0
+        m3 = 0.0
+        for k in range(4):
+            b = K[L.BASE_INV + 4 * i + k]
+            m0 += b * Td[k, 0]
+            m1 += b * Td[k, 1]
+            m2 += b * Td[k, 2]
+            m3 += b * Td[k, 3]
         for j in range(4):
-            s = 0.0
-            for k in range(4):
-                s += K[L.BASE_INV + 4 * i + k] * Td[k, j]
-            M[i, j] = s
-    for i in range(4):
-        for j in range(4):
-            s = 0.0
-            for k in range(4):
-                s += M[i, k] * K[L.TOOL_INV + 4 * k + j]
-            T07[i, j] = s
+            T07[i, j] = (m0 * K[L.TOOL_INV + j] + m1 * K[L.TOOL_INV + 4 + j]
+                         + m2 * K[L.TOOL_INV + 8 + j] + m3 * K[L.TOOL_INV + 12 + j])
 
 
 @njit
@@ -157,15 +184,16 @@ def _add(q, out, count):
 
 
 @njit
-def _accept(q, Td, K, out, count, snap=False, follow=True):
+def _accept(q, Td, K, out, count, ws, snap=False, follow=True):
     """Verify ``q`` on the exact forward kinematics (polishing it if needed) and append it.
 
     A ``snap`` (theta5 set to exactly 0 or pi) is not polished on a model that deviates from
     the idealised one: the polish would leave the singular wrist for one of the two solutions
     beside it, and the caller would stop looking for the other. Returns the new count and
     whether ``q`` is exact (appended now or already there). ``follow``: ``q`` solves the
-    idealised model, so it can be followed to the exact one (a homotopy)."""
-    T = np.empty((4, 4))
+    idealised model, so it can be followed to the exact one (a homotopy). ``ws``: the pose's
+    work array (see :func:`_solve`)."""
+    T = ws[_T:_T + 16].reshape((4, 4))
     fk_user(q, K, T)
     dp, dr = residual(T, Td)
     if dp > K[L.POS_TOL] or dr > K[L.ROT_TOL]:
@@ -210,7 +238,7 @@ def _may_match(angle, indicator, margin):
 
 
 @njit
-def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt=-1):
+def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws):
     """Complete DH theta1..3 with the wrist for offset ``d``; accept every exact solution
     (with ``filt`` >= 0, only those that may have its indicators: see :func:`solve_config`)."""
     margin = FILTER_MARGIN if K[L.DEVIATION] == 0.0 else FILTER_MARGIN_DEVIATING
@@ -218,21 +246,25 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt=-1):
         if not (_may_match(user_angle(0, th[0], K), filt >> 2, margin)
                 and _may_match(user_angle(2, th[2], K), (filt >> 1) & 1, margin)):
             return count
-    M = np.eye(4)
+    M = ws[_M:_M + 16].reshape((4, 4))
+    M[:, :] = 0.0
+    for i in range(4):
+        M[i, i] = 1.0
     chain(th, K, 0, 3, M, L.NDH)
-    Q = np.empty((3, 3))
+    Q = ws[_Q:_Q + 9].reshape((3, 3))
     wrist_target(M[:3, :3], R07, K, Q)
     t5 = theta5_of_d(d, K)
-    q = np.empty(6)
+    q = ws[_Q6:_Q6 + 6]
     for i in range(3):
         q[i] = user_angle(i, th[i], K)
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.DH + 15]
     if t5 < FOLD_WINDOW:
         # straight wrist: one member of the theta4 + theta7 family
-        qs = q.copy()
+        qs = ws[_QQ:_QQ + 6]
+        qs[:] = q
         qs[4] = user_angle(4, 0.0, K)
         _straight_split(qs, Q, K, hint, has_hint)
-        count, exact = _accept(qs, Td, K, out, count, True)
+        count, exact = _accept(qs, Td, K, out, count, ws, True)
         if exact:
             return count
         # nearly straight: theta5 from the bend itself (d is flat in theta5 at zero)
@@ -241,7 +273,8 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt=-1):
             return count
     if math.pi - t5 < FOLD_WINDOW:
         # fully bent wrist: the two wrist solutions merge into one, at theta5 = pi exactly
-        count, exact = _accept(_with_wrist(q, Q, math.pi, t4_hint, K), Td, K, out, count, True)
+        count, exact = _accept(_with_wrist(q, Q, math.pi, t4_hint, K, ws), Td, K, out, count, ws,
+                               True)
         if exact:
             return count
     # a model that is not exactly the idealised one (rounded published numbers): a start on
@@ -257,18 +290,20 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt=-1):
             q5 = wrap(user_angle(4, sgn * t5, K))
             if (1 if 0.0 <= q5 < math.pi else 0) != (filt & 1):
                 continue
-        count, _ = _accept(_with_wrist(q, Q, sgn * t5, t4_hint, K), Td, K, out, count)
+        count, _ = _accept(_with_wrist(q, Q, sgn * t5, t4_hint, K, ws), Td, K, out, count, ws)
         if t5_alt > 0.0:  # (both signs polish from one singular point: also start off it)
-            count, _ = _accept(_with_wrist(q, Q, sgn * t5_alt, t4_hint, K), Td, K, out, count,
-                               False, False)
+            count, _ = _accept(_with_wrist(q, Q, sgn * t5_alt, t4_hint, K, ws), Td, K, out, count,
+                               ws, False, False)
     return count
 
 
 @njit
-def _with_wrist(q, Q, t5, t4_hint, K):
-    """A copy of ``q`` (arm joints set) completed with the wrist for DH angle ``t5``."""
-    t4, t7 = wrist_ik(Q, t5, t4_hint, K)
-    qq = q.copy()
+def _with_wrist(q, Q, t5, t4_hint, K, ws):
+    """A copy of ``q`` (arm joints set) completed with the wrist for DH angle ``t5`` (in the
+    work array ``ws``: valid until the next call)."""
+    t4, t7 = wrist_ik_into(Q, t5, t4_hint, K, ws[_WR:_WR + 9].reshape((3, 3)))
+    qq = ws[_QQ:_QQ + 6]
+    qq[:] = q
     qq[3] = user_angle(3, t4, K)
     qq[4] = user_angle(4, t5, K)
     qq[5] = user_angle(6, t7, K)
@@ -276,7 +311,7 @@ def _with_wrist(q, Q, t5, t4_hint, K):
 
 
 @njit
-def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt=-1):
+def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws):
     """Every exact solution whose virtual offset is the root ``d``."""
     t = K[L.D7] + d
     px = p[0] - t * a[0]
@@ -285,8 +320,8 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt=-1):
     r2 = px * px + py * py
     b = K[L.B]
     scale = K[L.SCALE]
-    psi = np.empty((2, 2))
-    th = np.empty(3)
+    psi = ws[_PSI:_PSI + 4].reshape((2, 2))
+    th = ws[_TH:_TH + 3]
     if r2 <= (1e-9 * scale) ** 2 and b == 0.0:
         # P' on axis 1 (shoulder singularity): psi from the elbow condition alone, theta1 from
         # the bend condition u . a = eps3 (sin psi (c1 ax + s1 ay) - eps1 cos psi az)
@@ -300,7 +335,7 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt=-1):
             sp = psi[k, 1]
             if abs(sp) * axy < 1e-12:
                 _arm_from_psi(d, 0.0, cp, sp, pz, t1h, K, th)
-                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt)
+                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws)
                 continue
             target = (cphi * K[L.EPS3] + K[L.EPS1] * cp * a[2]) / (sp * axy)
             if abs(target) > 1.0 + 1e-9:
@@ -309,41 +344,51 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt=-1):
             dev = math.acos(max(-1.0, min(1.0, target)))
             for sg in (1.0, -1.0):
                 _arm_from_psi(d, 0.0, cp, sp, pz, base + sg * dev, K, th)
-                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt)
+                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws)
         return count
     s2 = r2 - b * b
     if s2 < -(1e-9 * scale) ** 2:
         return count
     s = math.sqrt(max(s2, 0.0))
     bp = -K[L.EPS1] * b
+    margin = FILTER_MARGIN if K[L.DEVIATION] == 0.0 else FILTER_MARGIN_DEVIATING
     for sgn in (1.0, -1.0):
         rho = sgn * s
+        th1 = math.atan2(rho * py - bp * px, rho * px + bp * py)
+        if filt >= 0 and not _may_match(user_angle(0, th1, K), filt >> 2, margin):
+            if s == 0.0:
+                break
+            continue  # this shoulder branch clearly has the other arm indicator
         a11, a12, m, a21, a22, c = linear_system(d, rho, p, a, K)
         n = _psi_candidates(a11, a12, m, a21, a22, c, psi, 1e-4 if K[L.DEVIATION] == 0.0 else 2e-2)
-        th1 = math.atan2(rho * py - bp * px, rho * px + bp * py)
         for k in range(n):
             _arm_from_psi(d, rho, psi[k, 0], psi[k, 1], pz, th1, K, th)
-            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt)
+            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws)
         if s == 0.0:
             break
     return count
 
 
 @njit
-def _roots(kind, p, a, K, Bm, bnorm, roots):
+def _roots(kind, p, a, K, Bm, bnorm, roots, ws):
     """Every real root of the residual ``kind`` (:func:`ik7r._poly.residual_of`) over the
-    search interval of d, ascending; -1 when it vanishes identically (a continuum)."""
+    search interval of d (into ``roots``), ascending; -1 when it vanishes identically (a
+    continuum). ``ws``: the pose's work array."""
     lo, hi = _interval(K)
-    blo = np.empty(24)
-    bhi = np.empty(24)
-    bsure = np.empty(24, np.bool_)
-    nb = isolate(kind, lo, hi, p, a, K, Bm, bnorm, blo, bhi, bsure)
+    nc = Bm.shape[0]
+    blo = ws[_BLO:_BLO + _NBRACKETS]
+    bhi = ws[_BHI:_BHI + _NBRACKETS]
+    bsure = ws[_BSURE:_BSURE + _NBRACKETS]
+    bcoef = ws[_BCOEF:_BCOEF + _NBRACKETS * nc].reshape((_NBRACKETS, nc))
+    nb = isolate(kind, lo, hi, p, a, K, Bm, bnorm, blo, bhi, bsure, bcoef,
+                 ws[_ISO:_ISO + ISOLATE_WORK])
     if nb < 0:
         return -1
     count = 0
-    found = np.empty(REFINE_GRID + 2)
+    found = ws[_FOUND:_FOUND + REFINE_GRID + 2]
+    w = ws[_CAST:_CAST + nc]
     for k in range(nb):
-        m = refine(kind, blo[k], bhi[k], bsure[k], p, a, K, found)
+        m = refine(kind, blo[k], bhi[k], bsure[k] == 1.0, bcoef[k], p, a, K, found, w)
         for i in range(m):
             if count < roots.shape[0]:
                 # u -> d; for a model that deviates from the idealised one a root just outside
@@ -385,14 +430,14 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
 
 
 @njit
-def _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt=-1):
+def _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt, ws):
     """Axis 7 on axis 1 (P' on axis 1 for every d): theta1 is free. Take it from the hint
     (else 0) and solve the remaining 1-D problem with the same certified root isolation."""
-    roots = np.empty(ROOT_CAP)
-    nr = _roots(1, p, a, K, Bm, bnorm, roots)
+    roots = ws[_ROOTS:_ROOTS + ROOT_CAP]
+    nr = _roots(1, p, a, K, Bm, bnorm, roots, ws)
     th1 = K[L.SIGN] * hint[0] + K[L.DH + 3] if has_hint else K[L.DH + 3]
-    psi = np.empty((2, 2))
-    th = np.empty(3)
+    psi = ws[_PSI:_PSI + 4].reshape((2, 2))
+    th = ws[_TH:_TH + 3]
     for k in range(max(nr, 0)):
         d = roots[k]
         pz = p[2] - (K[L.D7] + d) * a[2]
@@ -400,7 +445,7 @@ def _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt=-1)
         a21, a22, c = bend_row_on_axis(d, a, K)
         for k2 in range(_psi_candidates(a11, a12, m, a21, a22, c, psi)):
             _arm_from_psi(d, 0.0, psi[k2, 0], psi[k2, 1], pz, th1, K, th)
-            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt)
+            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws)
     return count
 
 
@@ -444,31 +489,39 @@ def solve_config(Td, K, Bm, bnorm, hint, has_hint, arm, elbow, wrist, out):
 
 @njit
 def _solve(Td, K, Bm, bnorm, hint, has_hint, out, filt):
-    T07 = np.empty((4, 4))
+    ws = np.empty(WORK_SIZE)  # every scratch array of this pose: one allocation
+    T07 = ws[_T07:_T07 + 16].reshape((4, 4))
     frame07(Td, K, T07)
-    p = T07[:3, 3].copy()
-    a = T07[:3, 2].copy()
+    p = ws[_P:_P + 3]
+    a = ws[_A:_A + 3]
+    R07 = ws[_R07:_R07 + 9].reshape((3, 3))
+    for i in range(3):
+        p[i] = T07[i, 3]
+        a[i] = T07[i, 2]
+        for j in range(3):
+            R07[i, j] = T07[i, j]
     na = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
     for i in range(3):
         a[i] /= na
-    R07 = T07[:3, :3].copy()
-    roots = np.empty(ROOT_CAP)
-    nr = _roots(0, p, a, K, Bm, bnorm, roots)
+    roots = ws[_ROOTS:_ROOTS + ROOT_CAP]
+    nr = _roots(0, p, a, K, Bm, bnorm, roots, ws)
     count = 0
     if nr < 0:
-        return _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt)
+        return _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt, ws)
     last = -1e300
     folded = False
+    # theta5 grows with d: the roots within FOLD_WINDOW of theta5 = pi lie beyond this d
+    d_fold = d_of_theta5(math.pi - FOLD_WINDOW, K) if _u_fold(K) > 1e-9 else math.inf
     for k in range(nr):
         d = roots[k]
         if d == last:
             continue  # the same root twice (clamped to an end of the range)
         last = d
-        if not folded and _u_fold(K) > 1e-9 and math.pi - theta5_of_d(d, K) < FOLD_WINDOW:
+        if not folded and d > d_fold:
             # near theta5 = pi the residual is flat: try the folded wrist's own d first
             folded = True
-            count = _solutions_at(K[L.DMAX], p, a, R07, Td, K, hint, has_hint, out, count, filt)
-        count = _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt)
+            count = _solutions_at(K[L.DMAX], p, a, R07, Td, K, hint, has_hint, out, count, filt, ws)
+        count = _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws)
     if folded:
         count = _merge_folded(out, count)
     return count

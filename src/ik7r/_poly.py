@@ -37,6 +37,9 @@ WMIN = 1e-12  # smallest interval width of the subdivision, in units of the sear
 MAX_ROOTS = 40
 ZERO_WIDTH = 1e-6  # an interval zero within rounding is split further while wider than this
 REFINE_GRID = 32  # grid of an undecided bracket: sign changes and local minima of |f|
+MAX_DEGREE = 16
+#: Size of the work array :func:`isolate` needs (degree up to MAX_DEGREE, a stack of 64).
+ISOLATE_WORK = 64 * (MAX_DEGREE + 5) + 5 * (MAX_DEGREE + 1)
 
 
 @cache
@@ -158,44 +161,83 @@ def residual_G(d, p, a, K):
         fp, mp = residual_F(d, s, p, a, K)
         fm, mm = residual_F(d, -s, p, a, K)
         return fp * fm, abs(fp) * mm + abs(fm) * mp + mp * mm * 1e-16
-    f, mf = residual_F(d, complex(0.0, math.sqrt(-s2)), p, a, K)
+    return _residual_G_imaginary(d, math.sqrt(-s2), p, a, K)
+
+
+@njit
+def _residual_G_imaginary(d, s, p, a, K):
+    """:func:`residual_G` when ``Px^2 + Py^2 < b^2``: ``rho = i s`` and ``G = |F(d, i s)|^2``
+    (kept apart: the complex arithmetic would slow the real path down)."""
+    f, mf = residual_F(d, complex(0.0, s), p, a, K)
     return f.real * f.real + f.imag * f.imag, 2.0 * abs(f) * mf + mf * mf * 1e-16
 
 
 @njit
-def residual_of_d(kind, d, p, a, K):
-    """The residual of the given kind at ``d``: 0 is :func:`residual_G`, 1 is
-    :func:`residual_fixed_theta1` (value, term magnitude)."""
-    if kind == 0:
-        return residual_G(d, p, a, K)
-    return residual_fixed_theta1(d, p, a, K)
-
-
-@njit
 def residual_of(kind, u, p, a, K):
-    """The residual in the search variable ``u = KW / d = cos(phi / 2)`` (value, term magnitude).
+    """The residual in the search variable ``u = KW / d = cos(phi / 2)`` (value, term magnitude):
+    kind 0 is :func:`residual_G`, 1 is :func:`residual_fixed_theta1`.
 
     ``u^n G(KW / u)`` is a polynomial of the same degree n in u, and u runs over the bounded
     interval ``[cos(2 beta), 1]`` for every wrist twist up to 45 deg (where d is unbounded).
     """
     if abs(u) < 1e-6:  # d beyond 1e6 KW: the value is rounding noise there anyway
         u = math.copysign(1e-6, u)
-    v, m = residual_of_d(kind, K[L.KW] / u, p, a, K)
-    scale = u ** K[L.NCHEB]
-    return v * scale, m * abs(scale)
+    d = K[L.KW] / u
+    if kind == 0:
+        v, m = residual_G(d, p, a, K)
+    else:
+        v, m = residual_fixed_theta1(d, p, a, K)
+    u2 = u * u
+    u4 = u2 * u2
+    scale = u4 * u4  # u^8
+    if K[L.NCHEB] > 8.0:
+        scale *= scale  # u^16
+    return v * scale, m * scale
+
+
+#: Chebyshev-Lobatto points ``cos(pi j / n)`` of the two degrees the residual has (8, 16)
+_NODES8 = np.cos(np.pi * np.arange(9) / 8)
+_NODES16 = np.cos(np.pi * np.arange(17) / 16)
 
 
 @njit
-def _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b):
+def _node(j, n):
+    """``cos(pi j / n)``: the j-th Chebyshev-Lobatto point of degree n."""
+    if n == 8:
+        return _NODES8[j]
+    if n == 16:
+        return _NODES16[j]
+    return math.cos(math.pi * j / n)
+
+
+#: Binomial coefficients C(n, k) of the two degrees (exact in floating point)
+_BINOM8 = np.array([math.comb(8, k) for k in range(9)], dtype=np.float64)
+_BINOM16 = np.array([math.comb(16, k) for k in range(17)], dtype=np.float64)
+
+
+@njit
+def _binomial(n, k):
+    """C(n, k) as a float."""
+    if n == 8:
+        return _BINOM8[k]
+    if n == 16:
+        return _BINOM16[k]
+    c = 1.0
+    for i in range(1, k + 1):
+        c = c * (n - i + 1) / i
+    return c
+
+
+@njit
+def _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b, vals):
     """Bernstein coefficients ``b`` of the residual ``kind`` on [d0, d1], sampled at the
-    Chebyshev points of that interval; returns (rounding bound of b, 1.0 if some sample is
-    nonzero beyond its own rounding else 0.0)."""
+    Chebyshev points of that interval (into ``vals``); returns (rounding bound of b, 1.0 if
+    some sample is nonzero beyond its own rounding else 0.0)."""
     n = Bmat.shape[0] - 1
-    vals = np.empty(n + 1)
     magmax = 0.0
     big = 0.0  # 0 when every sample is zero within its own rounding (a continuum), else 1
     for j in range(n + 1):
-        d = 0.5 * (d0 + d1) + 0.5 * (d1 - d0) * math.cos(math.pi * j / n)
+        d = 0.5 * (d0 + d1) + 0.5 * (d1 - d0) * _node(j, n)
         vals[j], mag = residual_of(kind, d, p, a, K)
         magmax = max(magmax, mag)
         if abs(vals[j]) > 64.0 * 2.220446049250313e-16 * mag:
@@ -217,21 +259,21 @@ def _emit(blo, bhi, bsure, count, x0, x1, sure):
     """Append the bracket [x0, x1] (brackets come in ascending order). Undecided brackets
     that touch the previous undecided one are merged with it; when the storage is full the
     last bracket is extended instead (and marked undecided): nothing is ever dropped."""
-    if count > 0 and not sure and not bsure[count - 1] and x0 - bhi[count - 1] <= 1e-12 * (abs(x0) + 1.0):
+    if count > 0 and not sure and bsure[count - 1] == 0.0 and x0 - bhi[count - 1] <= 1e-12 * (abs(x0) + 1.0):
         bhi[count - 1] = x1
         return count
     if count == blo.shape[0]:
         bhi[count - 1] = x1
-        bsure[count - 1] = False
+        bsure[count - 1] = 0.0
         return count
     blo[count] = x0
     bhi[count] = x1
-    bsure[count] = sure
+    bsure[count] = 1.0 if sure else 0.0
     return count + 1
 
 
 @njit
-def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure):
+def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure, bcoef, work):
     """Brackets of every real root of the residual ``kind`` on [d0, d1].
 
     The residual is a polynomial of degree n (``Bmat`` is (n+1, n+1)): its interpolant at n+1
@@ -240,31 +282,35 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure):
     interval (the bound is then local). An interval whose coefficients all exceed the bound
     with one sign is root-free; one with exactly one sign change holds exactly one root
     (Descartes' rule of signs). Writes brackets ``[blo, bhi]`` (ascending, in d) and returns
-    their number; ``bsure`` is False for brackets no longer than ``WMIN`` that stayed
-    undecided (a tangential root or a cluster). Returns -1 when the residual is zero within
-    rounding everywhere (a continuum of solutions). Only intervals proved root-free are
-    discarded.
+    their number; ``bsure`` is 0.0 (else 1.0) for brackets no longer than ``WMIN`` that stayed
+    undecided (a tangential root or a cluster); ``bcoef[k]`` (n + 1,) holds the Bernstein
+    coefficients of a sure bracket on it (for :func:`refine`). Returns -1 when the residual is
+    zero within rounding everywhere (a continuum of solutions). Only intervals proved
+    root-free are discarded. ``work``: at least ISOLATE_WORK floats (``bsure`` too is floats:
+    1.0 for sure).
     """
     n = Bmat.shape[0] - 1
     nb = n + 1
-    stack = np.empty((64, nb))
-    noise = np.empty(64)
-    fresh = np.empty(64, np.bool_)
-    lo = np.empty(64)
-    hi = np.empty(64)
-    b = np.empty(nb)
-    noise[0], big = _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b)
+    stack = work[:64 * nb].reshape((64, nb))
+    noise = work[64 * nb:64 * (nb + 1)]
+    fresh = work[64 * (nb + 1):64 * (nb + 2)]  # 1.0 where sampled on the interval itself
+    lo = work[64 * (nb + 2):64 * (nb + 3)]
+    hi = work[64 * (nb + 3):64 * (nb + 4)]
+    rest = 64 * (nb + 4)
+    b = work[rest:rest + nb]
+    left = work[rest + nb:rest + 2 * nb]
+    right = work[rest + 2 * nb:rest + 3 * nb]
+    tmp = work[rest + 3 * nb:rest + 4 * nb]
+    vals = work[rest + 4 * nb:rest + 5 * nb]
+    noise[0], big = _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b, vals)
     if big == 0.0:
         return -1  # zero within rounding at every sample: a continuum
     stack[0, :] = b
-    fresh[0] = True
+    fresh[0] = 1.0
     lo[0] = 0.0
     hi[0] = 1.0
     top = 1
     count = 0
-    left = np.empty(nb)
-    right = np.empty(nb)
-    tmp = np.empty(nb)
     width = d1 - d0
     while top > 0:
         top -= 1
@@ -281,12 +327,12 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure):
                 nneg += 1
         if npos == nb or nneg == nb:
             continue  # proved root-free
-        if npos + nneg < nb and not fresh[top] and t1 - t0 > WMIN:
+        if npos + nneg < nb and fresh[top] == 0.0 and t1 - t0 > WMIN:
             # undecided by the inherited bound: sample this interval afresh
             noise[top], _ = _bernstein(kind, d0 + width * t0, d0 + width * t1, p, a, K, Bmat,
-                                       bnorm, b)
+                                       bnorm, b, vals)
             stack[top, :] = b
-            fresh[top] = True
+            fresh[top] = 1.0
             top += 1
             continue
         if npos + nneg == 0 and t1 - t0 <= ZERO_WIDTH:
@@ -303,6 +349,8 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure):
             sure = var == 1  # exactly one root (Descartes' rule of signs)
         if sure or t1 - t0 <= WMIN or top + 2 > 64:
             count = _emit(blo, bhi, bsure, count, d0 + width * t0, d0 + width * t1, sure)
+            if sure and bsure[count - 1] == 1.0:
+                bcoef[count - 1, :] = bb
             continue
         # de Casteljau subdivision at the midpoint
         for i in range(nb):
@@ -316,13 +364,13 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure):
         # push the right half first so that the left half is handled first (ascending roots)
         stack[top] = right
         noise[top] = nz
-        fresh[top] = False
+        fresh[top] = 0.0
         lo[top] = tm
         hi[top] = t1
         top += 1
         stack[top] = left
         noise[top] = nz
-        fresh[top] = False
+        fresh[top] = 0.0
         lo[top] = t0
         hi[top] = tm
         top += 1
@@ -356,20 +404,17 @@ def _illinois(kind, x0, x1, f0, f1, p, a, K):
 
 
 @njit
-def refine(kind, d0, d1, sure, p, a, K, out):
+def refine(kind, d0, d1, sure, bb, p, a, K, out, w):
     """Roots of the residual ``kind`` at d (the true residual, not its interpolant) in the bracket [d0, d1].
 
-    A ``sure`` bracket (proved to hold exactly one root) whose ends have opposite signs goes
-    straight to the safeguarded secant. Otherwise sign changes on a grid of the bracket are
-    refined to full precision; without any, the grid point of least ``|f|`` (a tangential
-    root) is returned, refined to the least ``|f|``. Writes to ``out``, returns the count (at
-    least 1)."""
+    A ``sure`` bracket (proved to hold exactly one root; ``bb`` are the Bernstein coefficients
+    of the interpolant on it) goes to :func:`_newton_on_bracket`. Otherwise sign changes on a
+    grid of the bracket are refined to full precision; without any, the grid point of least
+    ``|f|`` (a tangential root) is returned, refined to the least ``|f|``. Writes to ``out``,
+    returns the count (at least 1). ``w``: work array of the size of ``bb``."""
     if sure:
-        f0 = residual_of(kind, d0, p, a, K)[0]
-        f1 = residual_of(kind, d1, p, a, K)[0]
-        if f0 * f1 < 0.0:
-            out[0] = _illinois(kind, d0, d1, f0, f1, p, a, K)
-            return 1
+        out[0] = _newton_on_bracket(kind, d0, d1, bb, p, a, K, w)
+        return 1
     m = REFINE_GRID
     xs = np.empty(m + 1)
     fs = np.empty(m + 1)
@@ -393,6 +438,79 @@ def refine(kind, d0, d1, sure, p, a, K, out):
             out[count] = _golden(kind, xs[max(0, i - 1)], xs[min(m, i + 1)], p, a, K)
             count += 1
     return count
+
+
+@njit
+def _newton_on_bracket(kind, d0, d1, bb, p, a, K, w):
+    """The one root in [d0, d1] of a bracket whose interpolant ``bb`` (Bernstein coefficients
+    with one sign change) is known: Newton's method on the interpolant (safeguarded by
+    bisection) gives a start within rounding of the root, which Newton steps on the true
+    residual (with the interpolant's slope) finish in one or two evaluations. Falls back to
+    the safeguarded secant on the whole bracket when those steps misbehave. ``w``: work array
+    of the size of ``bb``."""
+    n = bb.shape[0] - 1
+    up = bb[n] > bb[0]  # the interpolant rises through its root
+    s = 0.5
+    for i in range(n):  # start where the control polygon crosses zero
+        if (bb[i] > 0.0) != (bb[i + 1] > 0.0):
+            s = (i + bb[i] / (bb[i] - bb[i + 1])) / n
+            break
+    # power-basis coefficients on [0, 1] (c_k = C(n, k) times the k-th forward difference of
+    # bb): a start for the true residual needs no more accuracy than this conversion keeps
+    for i in range(n + 1):
+        w[i] = bb[i]
+    for k in range(1, n + 1):
+        for i in range(n, k - 1, -1):
+            w[i] -= w[i - 1]
+    for k in range(1, n):
+        w[k] *= _binomial(n, k)
+    s_lo = 0.0
+    s_hi = 1.0
+    slope = 0.0
+    for _ in range(60):
+        v = w[n]
+        slope = 0.0
+        for k in range(n - 1, -1, -1):
+            slope = slope * s + v
+            v = v * s + w[k]
+        if v == 0.0:
+            break
+        if (v > 0.0) == up:
+            s_hi = s
+        else:
+            s_lo = s
+        step = v / slope if slope != 0.0 else 1.0
+        if abs(step) <= 1e-15:
+            break  # converged (on the interpolant, within rounding)
+        s_new = s - step
+        if not (s_lo < s_new < s_hi):
+            s_new = 0.5 * (s_lo + s_hi)
+            if s_hi - s_lo <= 1e-15:
+                break
+        s = s_new
+    width = d1 - d0
+    x = d0 + width * s
+    slope_x = slope / width
+    if slope_x != 0.0 and math.isfinite(slope_x):
+        for _ in range(4):
+            f = residual_of(kind, x, p, a, K)[0]
+            if f == 0.0:
+                return x
+            step = f / slope_x
+            x_new = x - step
+            if not (d0 <= x_new <= d1):
+                break
+            if abs(step) <= 1e-10 * (abs(x) + abs(width)):
+                # the start was within 1e-10 of the root: one Newton step (quadratic, with
+                # the interpolant's slope) leaves only rounding; the candidate it gives is
+                # verified on the forward kinematics anyway
+                return x_new
+            x = x_new
+    f0 = residual_of(kind, d0, p, a, K)[0]
+    f1 = residual_of(kind, d1, p, a, K)[0]
+    if f0 * f1 < 0.0:
+        return _illinois(kind, d0, d1, f0, f1, p, a, K)
+    return x
 
 
 @njit

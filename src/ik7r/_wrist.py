@@ -121,7 +121,12 @@ def wrist_ik(Q, t5, t4_hint, K):
     """theta4 and theta7 (rad) with ``RotZ(theta4) W(t5) RotZ(theta7) = Q`` (Q's bend must
     match ``t5``). At the straight wrist (theta5 = 0) only theta4 + theta7 is defined:
     theta4 is then ``t4_hint``."""
-    W = np.empty((3, 3))
+    return wrist_ik_into(Q, t5, t4_hint, K, np.empty((3, 3)))
+
+
+@njit
+def wrist_ik_into(Q, t5, t4_hint, K, W):
+    """:func:`wrist_ik` with a caller-provided work array ``W`` (3, 3)."""
     wrist_rotation(t5, K, W)
     sw = math.hypot(W[0, 2], W[1, 2])  # sin(bend)
     if sw > 1e-12:
