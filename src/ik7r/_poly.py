@@ -167,7 +167,7 @@ def residual_G(d, p, a, K):
 @njit
 def _residual_G_imaginary(d, s, p, a, K):
     """:func:`residual_G` when ``Px^2 + Py^2 < b^2``: ``rho = i s`` and ``G = |F(d, i s)|^2``
-    (kept apart: the complex arithmetic would slow the real path down)."""
+    (the only place with complex arithmetic)."""
     f, mf = residual_F(d, complex(0.0, s), p, a, K)
     return f.real * f.real + f.imag * f.imag, 2.0 * abs(f) * mf + mf * mf * 1e-16
 
