@@ -22,6 +22,7 @@ from ._jit import njit
 from ._kin import chain, fk_user, polish, residual, user_angle
 from ._poly import (
     ISOLATE_WORK,
+    MAX_DEGREE,
     REFINE_GRID,
     _golden,
     bend_row_on_axis,
@@ -53,8 +54,8 @@ FILTER_MARGIN_DEVIATING = 0.1
 #: where nearly folded solutions merge into the folded one.
 FOLD_WINDOW = 1e-4
 
-#: Largest number of Bernstein coefficients (degree 16 + 1) and of brackets.
-_NB = 17
+#: Largest number of Bernstein coefficients, and of brackets.
+_NB = MAX_DEGREE + 1
 _NBRACKETS = 24
 
 
@@ -228,6 +229,12 @@ def _arm_from_psi(d, rho, cp, sp, pz, th1, K, th):
 
 
 @njit
+def _filter_margin(K):
+    """FILTER_MARGIN, or FILTER_MARGIN_DEVIATING for a model that deviates from the idealised one."""
+    return FILTER_MARGIN if K[L.DEVIATION] == 0.0 else FILTER_MARGIN_DEVIATING
+
+
+@njit
 def _may_match(angle, indicator, margin):
     """Whether a joint angle (rad) may have the indicator (1: in [-pi/2, pi/2)) once polished:
     True when it is within ``margin`` of a boundary."""
@@ -241,7 +248,7 @@ def _may_match(angle, indicator, margin):
 def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws):
     """Complete DH theta1..3 with the wrist for offset ``d``; accept every exact solution
     (with ``filt`` >= 0, only those that may have its indicators: see :func:`solve_config`)."""
-    margin = FILTER_MARGIN if K[L.DEVIATION] == 0.0 else FILTER_MARGIN_DEVIATING
+    margin = _filter_margin(K)
     if filt >= 0:
         if not (_may_match(user_angle(0, th[0], K), filt >> 2, margin)
                 and _may_match(user_angle(2, th[2], K), (filt >> 1) & 1, margin)):
@@ -351,7 +358,7 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws):
         return count
     s = math.sqrt(max(s2, 0.0))
     bp = -K[L.EPS1] * b
-    margin = FILTER_MARGIN if K[L.DEVIATION] == 0.0 else FILTER_MARGIN_DEVIATING
+    margin = _filter_margin(K)
     for sgn in (1.0, -1.0):
         rho = sgn * s
         th1 = math.atan2(rho * py - bp * px, rho * px + bp * py)
