@@ -19,7 +19,7 @@ import numpy as np
 
 from . import _layout as L
 from ._jit import njit
-from ._kin import chain, fk_user, polish, residual, user_angle
+from ._kin import dh_step_cs, fk_user, polish, residual, user_angle
 from ._poly import (
     ISOLATE_WORK,
     MAX_DEGREE,
@@ -31,7 +31,7 @@ from ._poly import (
     refine,
     residual_of,
 )
-from ._wrist import d_of_theta5, theta5_of_bend, theta5_of_d, wrist_ik_into, wrist_target
+from ._wrist import d_of_theta5, theta5_cs_of_d, theta5_of_bend, wrist_ik_cs, wrist_target
 
 TWO_PI = 2.0 * math.pi
 DUP_TOL = 1e-5  # two solutions closer than this (rad, every joint) are one (near a singular arm or
@@ -69,13 +69,15 @@ def _offsets(**sizes):
 
 
 # One work array per pose (a single allocation; see _solve) holds every scratch block.
+# Its small matrices are one block viewed as a stack of 4 x 4 matrices (``mats``, made once per
+# pose: a view of a stack entry costs nothing, a reshape does); these are their indices.
+_T07, _R07, _M, _Q, _T, _WR, _PSI = range(7)
 _W, WORK_SIZE = _offsets(
-    T07=16, P=3, A=3, R07=9, PSI=4, TH=3, M=16, Q=9, Q6=6, QQ=6, T=16, WR=9,
+    MATS=7 * 16, P=3, A=3, TH=3, Q6=6, QQ=6,
     BLO=_NBRACKETS, BHI=_NBRACKETS, BSURE=_NBRACKETS, FOUND=REFINE_GRID + 2,
     BCOEF=_NBRACKETS * _NB, CAST=_NB, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP,
 )
-_T07, _P, _A, _R07, _PSI, _TH = _W["T07"], _W["P"], _W["A"], _W["R07"], _W["PSI"], _W["TH"]
-_M, _Q, _Q6, _QQ, _T, _WR = _W["M"], _W["Q"], _W["Q6"], _W["QQ"], _W["T"], _W["WR"]
+_MATS, _P, _A, _TH, _Q6, _QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"], _W["QQ"]
 _BLO, _BHI, _BSURE, _FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
 _BCOEF, _CAST, _ISO, _ROOTS = _W["BCOEF"], _W["CAST"], _W["ISO"], _W["ROOTS"]
 
@@ -118,7 +120,7 @@ def _psi_candidates(a11, a12, m, a21, a22, c, out, tol=1e-4):
     if abs(det) > 1e-9 * s1 * s2:
         cp = (m * a22 - a12 * c) / det
         sp = (a11 * c - a21 * m) / det
-        nrm = math.hypot(cp, sp)
+        nrm = math.sqrt(cp * cp + sp * sp)
         if abs(nrm - 1.0) > tol:
             return 0
         out[0, 0] = cp / nrm
@@ -185,7 +187,7 @@ def _add(q, out, count):
 
 
 @njit
-def _accept(q, Td, K, out, count, ws, snap=False, follow=True):
+def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
     """Verify ``q`` on the exact forward kinematics (polishing it if needed) and append it.
 
     A ``snap`` (theta5 set to exactly 0 or pi) is not polished on a model that deviates from
@@ -193,8 +195,8 @@ def _accept(q, Td, K, out, count, ws, snap=False, follow=True):
     beside it, and the caller would stop looking for the other. Returns the new count and
     whether ``q`` is exact (appended now or already there). ``follow``: ``q`` solves the
     idealised model, so it can be followed to the exact one (a homotopy). ``ws``: the pose's
-    work array (see :func:`_solve`)."""
-    T = ws[_T:_T + 16].reshape((4, 4))
+    matrix stack (see :func:`_solve`)."""
+    T = mats[_T]
     fk_user(q, K, T)
     dp, dr = residual(T, Td)
     if dp > K[L.POS_TOL] or dr > K[L.ROT_TOL]:
@@ -213,8 +215,10 @@ def _accept(q, Td, K, out, count, ws, snap=False, follow=True):
 
 
 @njit
-def _arm_from_psi(d, rho, cp, sp, pz, th1, K, th):
-    """DH theta1..3 (into ``th``) from the shoulder branch and psi = theta2 + theta3."""
+def _arm_from_psi(d, rho, cp, sp, pz, c1, s1, K, th):
+    """Cosines and sines of DH theta1..3 (into ``th``: c1, c2, c3, s1, s2, s3) from those of
+    theta1 (the shoulder branch) and of psi = theta2 + theta3 (no trigonometric call: the
+    angles themselves are needed only for accepted candidates)."""
     a3 = K[L.A3]
     e1 = K[L.EPS1]
     e3 = K[L.EPS3]
@@ -223,9 +227,14 @@ def _arm_from_psi(d, rho, cp, sp, pz, th1, K, th):
     xy = e1 * (pz - K[L.D1])
     ex = xx - a3 * cp - Ld * e3 * sp
     ey = xy - a3 * sp + Ld * e3 * cp
-    th[0] = th1
-    th[1] = math.atan2(ey, ex)
-    th[2] = math.atan2(sp, cp) - th[1]
+    n = math.sqrt(ex * ex + ey * ey)
+    c2, s2 = (ex / n, ey / n) if n > 0.0 else (1.0, 0.0)  # as atan2(0, 0) = 0
+    th[0] = c1
+    th[1] = c2
+    th[2] = cp * c2 + sp * s2  # theta3 = psi - theta2
+    th[3] = s1
+    th[4] = s2
+    th[5] = sp * c2 - cp * s2
 
 
 @njit
@@ -235,35 +244,44 @@ def _filter_margin(K):
 
 
 @njit
-def _may_match(angle, indicator, margin):
-    """Whether a joint angle (rad) may have the indicator (1: in [-pi/2, pi/2)) once polished:
-    True when it is within ``margin`` of a boundary."""
-    w = wrap(angle)
-    if abs(abs(w) - 0.5 * math.pi) < margin:
+def _may_match(i, c, s, indicator, margin, K):
+    """Whether joint ``i`` (0-based) at the DH angle of cosine ``c`` and sine ``s`` may have the
+    indicator (1: user angle in [-pi/2, pi/2), where its cosine is positive) once polished:
+    True when it is within about ``margin`` (rad) of a boundary."""
+    # cos(user angle) = cos(theta - theta_offset) whatever the joint's sign
+    cq = c * K[L.OFFSET_TRIG + 2 * i] + s * K[L.OFFSET_TRIG + 2 * i + 1]
+    if abs(cq) < margin:
         return True
-    return (1 if -0.5 * math.pi <= w < 0.5 * math.pi else 0) == indicator
+    return (cq > 0.0) == (indicator == 1)
 
 
 @njit
-def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws):
+def _angle(th, i):
+    """DH theta_(i+1) from its cosine and sine in ``th`` (see :func:`_arm_from_psi`)."""
+    return math.atan2(th[3 + i], th[i])
+
+
+@njit
+def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     """Complete DH theta1..3 with the wrist for offset ``d``; accept every exact solution
     (with ``filt`` >= 0, only those that may have its indicators: see :func:`solve_config`)."""
     margin = _filter_margin(K)
     if filt >= 0:
-        if not (_may_match(user_angle(0, th[0], K), filt >> 2, margin)
-                and _may_match(user_angle(2, th[2], K), (filt >> 1) & 1, margin)):
+        if not (_may_match(0, th[0], th[3], filt >> 2, margin, K)
+                and _may_match(2, th[2], th[5], (filt >> 1) & 1, margin, K)):
             return count
-    M = ws[_M:_M + 16].reshape((4, 4))
+    M = mats[_M]
     M[:, :] = 0.0
     for i in range(4):
         M[i, i] = 1.0
-    chain(th, K, 0, 3, M, L.NDH)
-    Q = ws[_Q:_Q + 9].reshape((3, 3))
+    for i in range(3):
+        dh_step_cs(M, K, L.NDH, L.TRIG + 14, i, th[i], th[3 + i])
+    Q = mats[_Q, :3, :3]
     wrist_target(M[:3, :3], R07, K, Q)
-    t5 = theta5_of_d(d, K)
+    t5, c5, s5 = theta5_cs_of_d(d, K)
     q = ws[_Q6:_Q6 + 6]
     for i in range(3):
-        q[i] = user_angle(i, th[i], K)
+        q[i] = user_angle(i, _angle(th, i), K)
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.DH + 15]
     if t5 < FOLD_WINDOW:
         # straight wrist: one member of the theta4 + theta7 family
@@ -271,17 +289,18 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws):
         qs[:] = q
         qs[4] = user_angle(4, 0.0, K)
         _straight_split(qs, Q, K, hint, has_hint)
-        count, exact = _accept(qs, Td, K, out, count, ws, True)
+        count, exact = _accept(qs, Td, K, out, count, mats, True)
         if exact:
             return count
         # nearly straight: theta5 from the bend itself (d is flat in theta5 at zero)
         t5 = theta5_of_bend(Q, K)
         if t5 == 0.0:
             return count
+        c5, s5 = math.cos(t5), math.sin(t5)
     if math.pi - t5 < FOLD_WINDOW:
         # fully bent wrist: the two wrist solutions merge into one, at theta5 = pi exactly
-        count, exact = _accept(_with_wrist(q, Q, math.pi, t4_hint, K, ws), Td, K, out, count, ws,
-                               True)
+        count, exact = _accept(_with_wrist(q, Q, math.pi, -1.0, 0.0, t4_hint, K, ws, mats), Td,
+                               K, out, count, mats, True)
         if exact:
             return count
     # a model that is not exactly the idealised one (rounded published numbers): a start on
@@ -297,18 +316,20 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws):
             q5 = wrap(user_angle(4, sgn * t5, K))
             if (1 if 0.0 <= q5 < math.pi else 0) != (filt & 1):
                 continue
-        count, _ = _accept(_with_wrist(q, Q, sgn * t5, t4_hint, K, ws), Td, K, out, count, ws)
+        count, _ = _accept(_with_wrist(q, Q, sgn * t5, c5, sgn * s5, t4_hint, K, ws, mats), Td,
+                           K, out, count, mats)
         if t5_alt > 0.0:  # (both signs polish from one singular point: also start off it)
-            count, _ = _accept(_with_wrist(q, Q, sgn * t5_alt, t4_hint, K, ws), Td, K, out, count,
-                               ws, False, False)
+            alt = sgn * t5_alt
+            count, _ = _accept(_with_wrist(q, Q, alt, math.cos(alt), math.sin(alt), t4_hint, K, ws,
+                                           mats), Td, K, out, count, mats, False, False)
     return count
 
 
 @njit
-def _with_wrist(q, Q, t5, t4_hint, K, ws):
-    """A copy of ``q`` (arm joints set) completed with the wrist for DH angle ``t5`` (in the
-    work array ``ws``: valid until the next call)."""
-    t4, t7 = wrist_ik_into(Q, t5, t4_hint, K, ws[_WR:_WR + 9].reshape((3, 3)))
+def _with_wrist(q, Q, t5, c5, s5, t4_hint, K, ws, mats):
+    """A copy of ``q`` (arm joints set) completed with the wrist for DH angle ``t5`` (cosine
+    ``c5``, sine ``s5``), in the work array ``ws``: valid until the next call."""
+    t4, t7 = wrist_ik_cs(Q, c5, s5, t4_hint, K, mats[_WR, :3, :3])
     qq = ws[_QQ:_QQ + 6]
     qq[:] = q
     qq[3] = user_angle(3, t4, K)
@@ -318,7 +339,7 @@ def _with_wrist(q, Q, t5, t4_hint, K, ws):
 
 
 @njit
-def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws):
+def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     """Every exact solution whose virtual offset is the root ``d``."""
     t = K[L.D7] + d
     px = p[0] - t * a[0]
@@ -327,8 +348,8 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws):
     r2 = px * px + py * py
     b = K[L.B]
     scale = K[L.SCALE]
-    psi = ws[_PSI:_PSI + 4].reshape((2, 2))
-    th = ws[_TH:_TH + 3]
+    psi = mats[_PSI]
+    th = ws[_TH:_TH + 6]
     if r2 <= (1e-9 * scale) ** 2 and b == 0.0:
         # P' on axis 1 (shoulder singularity): psi from the elbow condition alone, theta1 from
         # the bend condition u . a = eps3 (sin psi (c1 ax + s1 ay) - eps1 cos psi az)
@@ -341,8 +362,9 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws):
             cp = psi[k, 0]
             sp = psi[k, 1]
             if abs(sp) * axy < 1e-12:
-                _arm_from_psi(d, 0.0, cp, sp, pz, t1h, K, th)
-                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws)
+                _arm_from_psi(d, 0.0, cp, sp, pz, math.cos(t1h), math.sin(t1h), K, th)
+                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws,
+                                          mats)
                 continue
             target = (cphi * K[L.EPS3] + K[L.EPS1] * cp * a[2]) / (sp * axy)
             if abs(target) > 1.0 + 1e-9:
@@ -350,8 +372,10 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws):
             base = math.atan2(a[1], a[0])
             dev = math.acos(max(-1.0, min(1.0, target)))
             for sg in (1.0, -1.0):
-                _arm_from_psi(d, 0.0, cp, sp, pz, base + sg * dev, K, th)
-                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws)
+                t1 = base + sg * dev
+                _arm_from_psi(d, 0.0, cp, sp, pz, math.cos(t1), math.sin(t1), K, th)
+                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws,
+                                          mats)
         return count
     s2 = r2 - b * b
     if s2 < -(1e-9 * scale) ** 2:
@@ -361,16 +385,20 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws):
     margin = _filter_margin(K)
     for sgn in (1.0, -1.0):
         rho = sgn * s
-        th1 = math.atan2(rho * py - bp * px, rho * px + bp * py)
-        if filt >= 0 and not _may_match(user_angle(0, th1, K), filt >> 2, margin):
+        x1 = rho * px + bp * py  # theta1 = atan2(y1, x1)
+        y1 = rho * py - bp * px
+        n1 = math.sqrt(x1 * x1 + y1 * y1)
+        c1, s1 = (x1 / n1, y1 / n1) if n1 > 0.0 else (1.0, 0.0)
+        if filt >= 0 and not _may_match(0, c1, s1, filt >> 2, margin, K):
             if s == 0.0:
                 break
             continue  # this shoulder branch clearly has the other arm indicator
         a11, a12, m, a21, a22, c = linear_system(d, rho, p, a, K)
         n = _psi_candidates(a11, a12, m, a21, a22, c, psi, 1e-4 if K[L.DEVIATION] == 0.0 else 2e-2)
         for k in range(n):
-            _arm_from_psi(d, rho, psi[k, 0], psi[k, 1], pz, th1, K, th)
-            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws)
+            _arm_from_psi(d, rho, psi[k, 0], psi[k, 1], pz, c1, s1, K, th)
+            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws,
+                                      mats)
         if s == 0.0:
             break
     return count
@@ -437,22 +465,24 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
 
 
 @njit
-def _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt, ws):
+def _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt, ws, mats):
     """Axis 7 on axis 1 (P' on axis 1 for every d): theta1 is free. Take it from the hint
     (else 0) and solve the remaining 1-D problem with the same certified root isolation."""
     roots = ws[_ROOTS:_ROOTS + ROOT_CAP]
     nr = _roots(1, p, a, K, Bm, bnorm, roots, ws)
     th1 = K[L.SIGN] * hint[0] + K[L.DH + 3] if has_hint else K[L.DH + 3]
-    psi = ws[_PSI:_PSI + 4].reshape((2, 2))
-    th = ws[_TH:_TH + 3]
+    c1, s1 = math.cos(th1), math.sin(th1)
+    psi = mats[_PSI]
+    th = ws[_TH:_TH + 6]
     for k in range(max(nr, 0)):
         d = roots[k]
         pz = p[2] - (K[L.D7] + d) * a[2]
         a11, a12, m, a21, a22, c = linear_system(d, 0.0, p, a, K)
         a21, a22, c = bend_row_on_axis(d, a, K)
         for k2 in range(_psi_candidates(a11, a12, m, a21, a22, c, psi)):
-            _arm_from_psi(d, 0.0, psi[k2, 0], psi[k2, 1], pz, th1, K, th)
-            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws)
+            _arm_from_psi(d, 0.0, psi[k2, 0], psi[k2, 1], pz, c1, s1, K, th)
+            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws,
+                                      mats)
     return count
 
 
@@ -497,11 +527,12 @@ def solve_config(Td, K, Bm, bnorm, hint, has_hint, arm, elbow, wrist, out):
 @njit
 def _solve(Td, K, Bm, bnorm, hint, has_hint, out, filt):
     ws = np.empty(WORK_SIZE)  # every scratch array of this pose: one allocation
-    T07 = ws[_T07:_T07 + 16].reshape((4, 4))
+    mats = ws[_MATS:_MATS + 7 * 16].reshape((7, 4, 4))
+    T07 = mats[_T07]
     frame07(Td, K, T07)
     p = ws[_P:_P + 3]
     a = ws[_A:_A + 3]
-    R07 = ws[_R07:_R07 + 9].reshape((3, 3))
+    R07 = mats[_R07, :3, :3]
     for i in range(3):
         p[i] = T07[i, 3]
         a[i] = T07[i, 2]
@@ -514,7 +545,7 @@ def _solve(Td, K, Bm, bnorm, hint, has_hint, out, filt):
     nr = _roots(0, p, a, K, Bm, bnorm, roots, ws)
     count = 0
     if nr < 0:
-        return _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt, ws)
+        return _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt, ws, mats)
     last = -1e300
     folded = False
     # theta5 grows with d: the roots within FOLD_WINDOW of theta5 = pi lie beyond this d
@@ -527,8 +558,9 @@ def _solve(Td, K, Bm, bnorm, hint, has_hint, out, filt):
         if not folded and d > d_fold:
             # near theta5 = pi the residual is flat: try the folded wrist's own d first
             folded = True
-            count = _solutions_at(K[L.DMAX], p, a, R07, Td, K, hint, has_hint, out, count, filt, ws)
-        count = _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws)
+            count = _solutions_at(K[L.DMAX], p, a, R07, Td, K, hint, has_hint, out, count, filt,
+                                  ws, mats)
+        count = _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
     if folded:
         count = _merge_folded(out, count)
     return count

@@ -26,8 +26,17 @@ if JIT_ENABLED:
         _njit = None
 
 
-def njit(func):
-    """Compile ``func`` lazily with numba (cached, no fastmath), or return it unchanged."""
+def njit(func=None, *, vector=False):
+    """Compile ``func`` lazily with numba (cached, no fastmath), or return it unchanged.
+
+    ``@njit(vector=True)``: a loop over independent samples that the compiler should turn into
+    SIMD code. Float division by zero then gives inf or nan (numpy's rule) instead of raising,
+    as the check would keep the loop scalar; such a function must not divide by zero.
+    """
+    if func is None:
+        return lambda f: njit(f, vector=vector)
     if _njit is None:  # pragma: no cover
         return func
+    if vector:
+        return _njit(cache=True, nogil=True, error_model="numpy")(func)
     return _njit(cache=True, nogil=True)(func)

@@ -55,12 +55,16 @@ def chain(theta, K, first, last, M, table=L.DH):
 @njit
 def _dh_step(M, K, table, trig, i, theta_i):
     """``M = M @ T(i-1, i)`` in place (eq. (1)) for DH angle ``theta_i``."""
+    dh_step_cs(M, K, table, trig, i, math.cos(theta_i), math.sin(theta_i))
+
+
+@njit
+def dh_step_cs(M, K, table, trig, i, ct, st):
+    """:func:`_dh_step` given the cosine and sine of the DH angle."""
     a = K[table + 4 * i]
     d = K[table + 4 * i + 2]
     ca = K[trig + 2 * i]
     sa = K[trig + 2 * i + 1]
-    ct = math.cos(theta_i)
-    st = math.sin(theta_i)
     for r in range(3):
         x = M[r, 0]
         y = M[r, 1] * ca + M[r, 2] * sa

@@ -43,7 +43,8 @@ NCHEB = NOM + 20  # degree of the residual polynomial (8 or 16)
 LIMITS = NOM + 24  # lower (6) then upper (6), rad, independent joints
 NDH = LIMITS + 12  # the nominal (idealised) DH table, same layout as DH
 TRIG = NDH + 28  # cos, sin of each alpha_{i-1}: 7 pairs for DH, then 7 pairs for NDH
-BASE_SIZE = TRIG + 28
+OFFSET_TRIG = TRIG + 28  # cos, sin of each theta_offset_i of the DH table: 7 pairs
+BASE_SIZE = OFFSET_TRIG + 14
 
 # models between the nominal and the exact one (a homotopy for polishing deviating models):
 # HOMOTOPY_STEPS full parameter vectors of BASE_SIZE follow, the k-th with the DH table

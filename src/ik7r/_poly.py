@@ -39,7 +39,7 @@ ZERO_WIDTH = 1e-6  # an interval zero within rounding is split further while wid
 REFINE_GRID = 32  # grid of an undecided bracket: sign changes and local minima of |f|
 MAX_DEGREE = 16
 #: Size of the work array :func:`isolate` needs (degree up to MAX_DEGREE, a stack of 64).
-ISOLATE_WORK = 64 * (MAX_DEGREE + 5) + 5 * (MAX_DEGREE + 1)
+ISOLATE_WORK = 64 * (MAX_DEGREE + 5) + 4 * (MAX_DEGREE + 1)
 
 
 @cache
@@ -150,18 +150,31 @@ def eliminate_psi(a11, a12, m, a21, a22, c):
 def residual_G(d, p, a, K):
     """The residual polynomial G(d) (see the module docstring) and a bound on the magnitude
     of the terms it is computed from."""
-    t = K[L.D7] + d
-    px = p[0] - t * a[0]
-    py = p[1] - t * a[1]
-    s2 = px * px + py * py - K[L.B] * K[L.B]
+    s2 = _rho_squared(d, p, a, K)
     if K[L.PRODUCT] == 0.0:
         return residual_F(d, math.sqrt(max(s2, 0.0)), p, a, K)
     if s2 >= 0.0:
-        s = math.sqrt(s2)
-        fp, mp = residual_F(d, s, p, a, K)
-        fm, mm = residual_F(d, -s, p, a, K)
-        return fp * fm, abs(fp) * mm + abs(fm) * mp + mp * mm * 1e-16
+        return _residual_F_pair(d, s2, p, a, K)
     return _residual_G_imaginary(d, math.sqrt(-s2), p, a, K)
+
+
+@njit
+def _rho_squared(d, p, a, K):
+    """``rho^2 = Px^2 + Py^2 - b^2`` of the virtual centre at offset ``d``."""
+    t = K[L.D7] + d
+    px = p[0] - t * a[0]
+    py = p[1] - t * a[1]
+    return px * px + py * py - K[L.B] * K[L.B]
+
+
+@njit
+def _residual_F_pair(d, s2, p, a, K):
+    """``G = F(d, s) F(d, -s)`` with ``s = sqrt(s2)``, ``s2 >= 0``, and its magnitude (no
+    branches on the pose: a loop of it can be SIMD)."""
+    s = math.sqrt(max(s2, 0.0))
+    fp, mp = residual_F(d, s, p, a, K)
+    fm, mm = residual_F(d, -s, p, a, K)
+    return fp * fm, abs(fp) * mm + abs(fm) * mp + mp * mm * 1e-16
 
 
 @njit
@@ -180,19 +193,56 @@ def residual_of(kind, u, p, a, K):
     ``u^n G(KW / u)`` is a polynomial of the same degree n in u, and u runs over the bounded
     interval ``[cos(2 beta), 1]`` for every wrist twist up to 45 deg (where d is unbounded).
     """
-    if abs(u) < 1e-6:  # d beyond 1e6 KW: the value is rounding noise there anyway
-        u = math.copysign(1e-6, u)
+    u = _off_zero(u)
     d = K[L.KW] / u
     if kind == 0:
         v, m = residual_G(d, p, a, K)
     else:
         v, m = residual_fixed_theta1(d, p, a, K)
+    scale = _power(u, K)
+    return v * scale, m * scale
+
+
+@njit
+def _off_zero(u):
+    """``u`` moved to at least 1e-6 from zero (d beyond 1e6 KW: the value is rounding noise
+    there anyway)."""
+    return math.copysign(max(abs(u), 1e-6), u)
+
+
+@njit
+def _power(u, K):
+    """``u^n`` for the degree n (8 or 16) of the residual."""
     u2 = u * u
     u4 = u2 * u2
-    scale = u4 * u4  # u^8
-    if K[L.NCHEB] > 8.0:
-        scale *= scale  # u^16
-    return v * scale, m * scale
+    u8 = u4 * u4
+    return u8 * u8 if K[L.NCHEB] > 8.0 else u8
+
+
+@njit(vector=True)
+def _residual_at_nodes(d0, d1, p, a, K, nodes, vals, mags):
+    """:func:`residual_of` (kind 0) at the points ``nodes`` (in [-1, 1]) of [d0, d1], as
+    SIMD loops. A magnitude with its sign bit set marks a value they could not give (complex
+    shoulder branches: see :func:`_residual_G_imaginary`)."""
+    mid = 0.5 * (d0 + d1)
+    half = 0.5 * (d1 - d0)
+    if K[L.PRODUCT] == 0.0:
+        for j in range(nodes.shape[0]):
+            u = _off_zero(mid + half * nodes[j])
+            d = K[L.KW] / u
+            v, m = residual_F(d, math.sqrt(max(_rho_squared(d, p, a, K), 0.0)), p, a, K)
+            scale = _power(u, K)
+            vals[j] = v * scale
+            mags[j] = m * scale
+    else:
+        for j in range(nodes.shape[0]):
+            u = _off_zero(mid + half * nodes[j])
+            d = K[L.KW] / u
+            s2 = _rho_squared(d, p, a, K)
+            v, m = _residual_F_pair(d, s2, p, a, K)
+            scale = _power(u, K)
+            vals[j] = v * scale
+            mags[j] = math.copysign(m * scale, s2)
 
 
 #: Chebyshev-Lobatto points ``cos(pi j / n)`` of the two degrees the residual has (8, 16)
@@ -201,13 +251,9 @@ _NODES16 = np.cos(np.pi * np.arange(17) / 16)
 
 
 @njit
-def _node(j, n):
-    """``cos(pi j / n)``: the j-th Chebyshev-Lobatto point of degree n."""
-    if n == 8:
-        return _NODES8[j]
-    if n == 16:
-        return _NODES16[j]
-    return math.cos(math.pi * j / n)
+def _nodes(n):
+    """The n + 1 Chebyshev-Lobatto points ``cos(pi j / n)`` of degree n (8 or 16)."""
+    return _NODES8 if n == 8 else _NODES16
 
 
 #: Binomial coefficients C(n, k) of the two degrees (exact in floating point)
@@ -229,18 +275,24 @@ def _binomial(n, k):
 
 
 @njit
-def _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b, vals):
+def _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b, vals, mags):
     """Bernstein coefficients ``b`` of the residual ``kind`` on [d0, d1], sampled at the
-    Chebyshev points of that interval (into ``vals``); returns (rounding bound of b, 1.0 if
-    some sample is nonzero beyond its own rounding else 0.0)."""
+    Chebyshev points of that interval (into ``vals``, their term magnitudes into ``mags``);
+    returns (rounding bound of b, 1.0 if some sample is nonzero beyond its own rounding else
+    0.0)."""
     n = Bmat.shape[0] - 1
+    nodes = _nodes(n)
+    if kind == 0:
+        _residual_at_nodes(d0, d1, p, a, K, nodes, vals, mags)
+    for j in range(n + 1):
+        if kind != 0 or math.copysign(1.0, mags[j]) < 0.0:
+            vals[j], mags[j] = residual_of(kind, 0.5 * (d0 + d1) + 0.5 * (d1 - d0) * nodes[j],
+                                           p, a, K)
     magmax = 0.0
     big = 0.0  # 0 when every sample is zero within its own rounding (a continuum), else 1
     for j in range(n + 1):
-        d = 0.5 * (d0 + d1) + 0.5 * (d1 - d0) * _node(j, n)
-        vals[j], mag = residual_of(kind, d, p, a, K)
-        magmax = max(magmax, mag)
-        if abs(vals[j]) > 64.0 * 2.220446049250313e-16 * mag:
+        magmax = max(magmax, mags[j])
+        if abs(vals[j]) > 64.0 * 2.220446049250313e-16 * mags[j]:
             big = 1.0
     for i in range(n + 1):
         s = 0.0
@@ -298,11 +350,10 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure, bcoef, work):
     hi = work[64 * (nb + 3):64 * (nb + 4)]
     rest = 64 * (nb + 4)
     b = work[rest:rest + nb]
-    left = work[rest + nb:rest + 2 * nb]
-    right = work[rest + 2 * nb:rest + 3 * nb]
-    tmp = work[rest + 3 * nb:rest + 4 * nb]
-    vals = work[rest + 4 * nb:rest + 5 * nb]
-    noise[0], big = _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b, vals)
+    tmp = work[rest + nb:rest + 2 * nb]
+    vals = work[rest + 2 * nb:rest + 3 * nb]
+    mags = work[rest + 3 * nb:rest + 4 * nb]
+    noise[0], big = _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b, vals, mags)
     if big == 0.0:
         return -1  # zero within rounding at every sample: a continuum
     stack[0, :] = b
@@ -321,16 +372,14 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure, bcoef, work):
         npos = 0
         nneg = 0
         for i in range(nb):
-            if bb[i] > nz:
-                npos += 1
-            elif bb[i] < -nz:
-                nneg += 1
+            npos += bb[i] > nz
+            nneg += bb[i] < -nz
         if npos == nb or nneg == nb:
             continue  # proved root-free
         if npos + nneg < nb and fresh[top] == 0.0 and t1 - t0 > WMIN:
             # undecided by the inherited bound: sample this interval afresh
             noise[top], _ = _bernstein(kind, d0 + width * t0, d0 + width * t1, p, a, K, Bmat,
-                                       bnorm, b, vals)
+                                       bnorm, b, vals, mags)
             stack[top, :] = b
             fresh[top] = 1.0
             top += 1
@@ -352,28 +401,25 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure, bcoef, work):
             if sure and bsure[count - 1] == 1.0:
                 bcoef[count - 1, :] = bb
             continue
-        # de Casteljau subdivision at the midpoint
+        # de Casteljau subdivision at the midpoint, in place: the right half replaces this
+        # interval (row top), the left half goes above it, so that it is handled first
+        # (ascending roots)
         for i in range(nb):
             tmp[i] = bb[i]
+        left = stack[top + 1]
         for r in range(nb):
             left[r] = tmp[0]
-            right[nb - 1 - r] = tmp[nb - 1 - r]
+            bb[nb - 1 - r] = tmp[nb - 1 - r]
             for i in range(nb - 1 - r):
                 tmp[i] = 0.5 * (tmp[i] + tmp[i + 1])
         tm = 0.5 * (t0 + t1)
-        # push the right half first so that the left half is handled first (ascending roots)
-        stack[top] = right
-        noise[top] = nz
         fresh[top] = 0.0
         lo[top] = tm
-        hi[top] = t1
-        top += 1
-        stack[top] = left
-        noise[top] = nz
-        fresh[top] = 0.0
-        lo[top] = t0
-        hi[top] = tm
-        top += 1
+        noise[top + 1] = nz
+        fresh[top + 1] = 0.0
+        lo[top + 1] = t0
+        hi[top + 1] = tm
+        top += 2
     return count
 
 
@@ -480,13 +526,14 @@ def _newton_on_bracket(kind, d0, d1, bb, p, a, K, w):
         else:
             s_lo = s
         step = v / slope if slope != 0.0 else 1.0
-        if abs(step) <= 1e-15:
-            break  # converged (on the interpolant, within rounding)
         s_new = s - step
         if not (s_lo < s_new < s_hi):
             s_new = 0.5 * (s_lo + s_hi)
             if s_hi - s_lo <= 1e-15:
                 break
+        elif abs(step) <= 1e-8:
+            s = s_new  # converging quadratically: this step leaves an error of order step^2
+            break
         s = s_new
     width = d1 - d0
     x = d0 + width * s

@@ -31,10 +31,18 @@ def d_of_theta5(t5, K):
 @njit
 def theta5_of_d(d, K):
     """The non-negative theta5 (rad) whose virtual offset is ``d`` (clamped to the range)."""
+    return theta5_cs_of_d(d, K)[0]
+
+
+@njit
+def theta5_cs_of_d(d, K):
+    """:func:`theta5_of_d`, and its cosine and sine (from the half angle, no further
+    trigonometric call)."""
     h = K[L.KW] / d  # cos(phi / 2)
     s2 = (1.0 - h) / (2.0 * K[L.SB] * K[L.SB])
-    s2 = min(1.0, max(0.0, s2))
-    return 2.0 * math.asin(math.sqrt(s2))
+    s2 = min(1.0, max(0.0, s2))  # sin^2(theta5 / 2)
+    x = math.sqrt(s2)
+    return 2.0 * math.asin(x), 1.0 - 2.0 * s2, 2.0 * x * math.sqrt(1.0 - s2)
 
 
 @njit
@@ -59,6 +67,12 @@ def theta5_of_bend(Q, K):
 @njit
 def wrist_rotation(t5, K, W):
     """``W = RotX(-beta) RotZ(t5) RotX(2 beta) RotZ(-t5) RotX(-beta)`` (3, 3): frame 4 <- 7."""
+    wrist_rotation_cs(math.cos(t5), math.sin(t5), K, W)
+
+
+@njit
+def wrist_rotation_cs(c5, s5, K, W):
+    """:func:`wrist_rotation` given ``cos(t5)`` and ``sin(t5)``."""
     W[0, 0] = 1.0
     W[0, 1] = 0.0
     W[0, 2] = 0.0
@@ -72,8 +86,6 @@ def wrist_rotation(t5, K, W):
     sb = K[L.SB]
     c2 = cb * cb - sb * sb
     s2 = 2.0 * sb * cb
-    c5 = math.cos(t5)
-    s5 = math.sin(t5)
     _rot_x(W, cb, -sb)
     _rot_z(W, c5, s5)
     _rot_x(W, c2, s2)
@@ -127,14 +139,26 @@ def wrist_ik(Q, t5, t4_hint, K):
 @njit
 def wrist_ik_into(Q, t5, t4_hint, K, W):
     """:func:`wrist_ik` with a caller-provided work array ``W`` (3, 3)."""
-    wrist_rotation(t5, K, W)
-    sw = math.hypot(W[0, 2], W[1, 2])  # sin(bend)
-    if sw > 1e-12:
-        t4 = math.atan2(Q[1, 2], Q[0, 2]) - math.atan2(W[1, 2], W[0, 2])
+    return wrist_ik_cs(Q, math.cos(t5), math.sin(t5), t4_hint, K, W)
+
+
+@njit
+def wrist_ik_cs(Q, c5, s5, t4_hint, K, W):
+    """:func:`wrist_ik_into` given ``cos(t5)`` and ``sin(t5)``."""
+    wrist_rotation_cs(c5, s5, K, W)
+    # theta4 turns W's third column onto Q's about z: the angle between their xy parts
+    dot = W[0, 2] * Q[0, 2] + W[1, 2] * Q[1, 2]
+    cross = W[0, 2] * Q[1, 2] - W[1, 2] * Q[0, 2]
+    nw2 = W[0, 2] * W[0, 2] + W[1, 2] * W[1, 2]  # sin^2(bend)
+    nn = math.sqrt(dot * dot + cross * cross)
+    if nw2 > 1e-24 and nn > 0.0:
+        t4 = math.atan2(cross, dot)
+        c4 = dot / nn
+        s4 = cross / nn
     else:
         t4 = t4_hint
-    c4 = math.cos(t4)
-    s4 = math.sin(t4)
+        c4 = math.cos(t4)
+        s4 = math.sin(t4)
     # RotZ(t7) = W^T RotZ(-t4) Q: first column's x and y
     m0 = c4 * Q[0, 0] + s4 * Q[1, 0]
     m1 = -s4 * Q[0, 0] + c4 * Q[1, 0]

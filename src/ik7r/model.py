@@ -199,6 +199,8 @@ class Robot:
         for t, table in enumerate((self.dh, f.nominal_dh)):  # cos, sin of every twist
             K[L.TRIG + 14 * t:L.TRIG + 14 * (t + 1):2] = np.cos(table[:, 1])
             K[L.TRIG + 14 * t + 1:L.TRIG + 14 * (t + 1):2] = np.sin(table[:, 1])
+        K[L.OFFSET_TRIG:L.OFFSET_TRIG + 14:2] = np.cos(self.dh[:, 3])
+        K[L.OFFSET_TRIG + 1:L.OFFSET_TRIG + 14:2] = np.sin(self.dh[:, 3])
         steps = []
         for k in range(L.HOMOTOPY_STEPS):  # models on the way from the nominal to the exact one
             t = (k + 1) / (L.HOMOTOPY_STEPS + 1)
@@ -207,6 +209,8 @@ class Robot:
             Kt[L.DH:L.DH + 28] = dh_t.reshape(-1)
             Kt[L.TRIG:L.TRIG + 14:2] = np.cos(dh_t[:, 1])
             Kt[L.TRIG + 1:L.TRIG + 14:2] = np.sin(dh_t[:, 1])
+            Kt[L.OFFSET_TRIG:L.OFFSET_TRIG + 14:2] = np.cos(dh_t[:, 3])
+            Kt[L.OFFSET_TRIG + 1:L.OFFSET_TRIG + 14:2] = np.sin(dh_t[:, 3])
             steps.append(Kt)
         K = np.concatenate([K, *steps])
         K.setflags(write=False)
