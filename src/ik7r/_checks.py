@@ -102,7 +102,7 @@ def validate_pose(T, tol, clean, tmp):
     return code
 
 
-@njit
+@njit(allocates=True)
 def validate_poses(Ts, tol, clean, codes):
     """:func:`validate_pose` for every pose of ``Ts`` (N, 4, 4); returns the number of bad ones."""
     tmp = np.empty((3, 3))

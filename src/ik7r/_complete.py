@@ -25,6 +25,7 @@ from ._poly import (
     MAX_DEGREE,
     REFINE_GRID,
     _golden,
+    _newton_on_bracket,
     bend_row_on_axis,
     isolate,
     linear_system,
@@ -68,7 +69,7 @@ def _offsets(**sizes):
     return out, at
 
 
-# One work array per pose (a single allocation; see _solve) holds every scratch block.
+# One work array per pose (see solve_into) holds every scratch block.
 # Its small matrices are one block viewed as a stack of 4 x 4 matrices (``mats``, made once per
 # pose: a view of a stack entry costs nothing, a reshape does); these are their indices.
 _T07, _R07, _M, _Q, _T, _WR, _PSI = range(7)
@@ -181,7 +182,8 @@ def _add(q, out, count):
         if same:
             return count
     if count < out.shape[0]:
-        out[count, :] = q
+        for i in range(6):
+            out[count, i] = q[i]
         count += 1
     return count
 
@@ -195,7 +197,7 @@ def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
     beside it, and the caller would stop looking for the other. Returns the new count and
     whether ``q`` is exact (appended now or already there). ``follow``: ``q`` solves the
     idealised model, so it can be followed to the exact one (a homotopy). ``ws``: the pose's
-    matrix stack (see :func:`_solve`)."""
+    matrix stack (see :func:`solve_into`)."""
     T = mats[_T]
     fk_user(q, K, T)
     dp, dr = residual(T, Td)
@@ -271,25 +273,26 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws, m
                 and _may_match(2, th[2], th[5], (filt >> 1) & 1, margin, K)):
             return count
     M = mats[_M]
-    M[:, :] = 0.0
     for i in range(4):
-        M[i, i] = 1.0
+        for j in range(4):
+            M[i, j] = 1.0 if i == j else 0.0
     for i in range(3):
         dh_step_cs(M, K, L.NDH, L.TRIG + 14, i, th[i], th[3 + i])
     Q = mats[_Q, :3, :3]
     wrist_target(M[:3, :3], R07, K, Q)
     t5, c5, s5 = theta5_cs_of_d(d, K)
     q = ws[_Q6:_Q6 + 6]
+    qq = ws[_QQ:_QQ + 6]  # q completed with a wrist solution
     for i in range(3):
         q[i] = user_angle(i, _angle(th, i), K)
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.DH + 15]
     if t5 < FOLD_WINDOW:
         # straight wrist: one member of the theta4 + theta7 family
-        qs = ws[_QQ:_QQ + 6]
-        qs[:] = q
-        qs[4] = user_angle(4, 0.0, K)
-        _straight_split(qs, Q, K, hint, has_hint)
-        count, exact = _accept(qs, Td, K, out, count, mats, True)
+        for i in range(6):
+            qq[i] = q[i]
+        qq[4] = user_angle(4, 0.0, K)
+        _straight_split(qq, Q, K, hint, has_hint)
+        count, exact = _accept(qq, Td, K, out, count, mats, True)
         if exact:
             return count
         # nearly straight: theta5 from the bend itself (d is flat in theta5 at zero)
@@ -299,7 +302,7 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws, m
         c5, s5 = math.cos(t5), math.sin(t5)
     if math.pi - t5 < FOLD_WINDOW:
         # fully bent wrist: the two wrist solutions merge into one, at theta5 = pi exactly
-        count, exact = _accept(_with_wrist(q, Q, math.pi, -1.0, 0.0, t4_hint, K, ws, mats), Td,
+        count, exact = _accept(_with_wrist(q, Q, math.pi, -1.0, 0.0, t4_hint, K, mats, qq), Td,
                                K, out, count, mats, True)
         if exact:
             return count
@@ -316,22 +319,22 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws, m
             q5 = wrap(user_angle(4, sgn * t5, K))
             if (1 if 0.0 <= q5 < math.pi else 0) != (filt & 1):
                 continue
-        count, _ = _accept(_with_wrist(q, Q, sgn * t5, c5, sgn * s5, t4_hint, K, ws, mats), Td,
+        count, _ = _accept(_with_wrist(q, Q, sgn * t5, c5, sgn * s5, t4_hint, K, mats, qq), Td,
                            K, out, count, mats)
         if t5_alt > 0.0:  # (both signs polish from one singular point: also start off it)
             alt = sgn * t5_alt
-            count, _ = _accept(_with_wrist(q, Q, alt, math.cos(alt), math.sin(alt), t4_hint, K, ws,
-                                           mats), Td, K, out, count, mats, False, False)
+            count, _ = _accept(_with_wrist(q, Q, alt, math.cos(alt), math.sin(alt), t4_hint, K,
+                                           mats, qq), Td, K, out, count, mats, False, False)
     return count
 
 
 @njit
-def _with_wrist(q, Q, t5, c5, s5, t4_hint, K, ws, mats):
-    """A copy of ``q`` (arm joints set) completed with the wrist for DH angle ``t5`` (cosine
-    ``c5``, sine ``s5``), in the work array ``ws``: valid until the next call."""
+def _with_wrist(q, Q, t5, c5, s5, t4_hint, K, mats, qq):
+    """``qq``: a copy of ``q`` (arm joints set) completed with the wrist for DH angle ``t5``
+    (cosine ``c5``, sine ``s5``)."""
     t4, t7 = wrist_ik_cs(Q, c5, s5, t4_hint, K, mats[_WR, :3, :3])
-    qq = ws[_QQ:_QQ + 6]
-    qq[:] = q
+    for i in range(6):
+        qq[i] = q[i]
     qq[3] = user_angle(3, t4, K)
     qq[4] = user_angle(4, t5, K)
     qq[5] = user_angle(6, t7, K)
@@ -423,7 +426,11 @@ def _roots(kind, p, a, K, Bm, bnorm, roots, ws):
     found = ws[_FOUND:_FOUND + REFINE_GRID + 2]
     w = ws[_CAST:_CAST + nc]
     for k in range(nb):
-        m = refine(kind, blo[k], bhi[k], bsure[k] == 1.0, bcoef[k], p, a, K, found, w)
+        if bsure[k] == 1.0:  # (refine's first case, without the extra call)
+            found[0] = _newton_on_bracket(kind, blo[k], bhi[k], bcoef[k], p, a, K, w)
+            m = 1
+        else:
+            m = refine(kind, blo[k], bhi[k], False, bcoef[k], p, a, K, found, w)
         for i in range(m):
             if count < roots.shape[0]:
                 # u -> d; for a model that deviates from the idealised one a root just outside
@@ -440,7 +447,7 @@ def _roots(kind, p, a, K, Bm, bnorm, roots, ws):
     return count
 
 
-@njit
+@njit(allocates=True)
 def _near_misses(kind, lo, hi, p, a, K, roots, count):
     """Extra candidates for a model that deviates from the idealised one: local minima of
     |residual| that come close to zero without crossing it. A pair of nearby roots of the
@@ -505,28 +512,31 @@ def _interval(K):
     return lo - pad, 1.0 + pad
 
 
-@njit
+@njit(allocates=True)
 def solve_all(Td, K, Bm, bnorm, hint, has_hint, out):
     """Every exact solution of the world <- tool target ``Td`` (4, 4) into ``out`` (M, 6).
 
     Returns the number of solutions (angles wrapped to (-pi, pi], no duplicates). ``hint``
     (6,) chooses the free joints at singular poses when ``has_hint``.
     """
-    return _solve(Td, K, Bm, bnorm, hint, has_hint, out, -1)
+    return solve_into(Td, K, Bm, bnorm, hint, has_hint, out, -1, np.empty(WORK_SIZE))
 
 
-@njit
+@njit(allocates=True)
 def solve_config(Td, K, Bm, bnorm, hint, has_hint, arm, elbow, wrist, out):
     """:func:`solve_all` for one configuration: every exact solution that has the indicators
     (arm, elbow, wrist), and possibly others. The root search is the same; only candidates
     whose arm and wrist clearly (beyond a margin) have other indicators are not verified,
     which skips most of the forward kinematics checks."""
-    return _solve(Td, K, Bm, bnorm, hint, has_hint, out, 4 * arm + 2 * elbow + wrist)
+    return solve_into(Td, K, Bm, bnorm, hint, has_hint, out, 4 * arm + 2 * elbow + wrist,
+                      np.empty(WORK_SIZE))
 
 
 @njit
-def _solve(Td, K, Bm, bnorm, hint, has_hint, out, filt):
-    ws = np.empty(WORK_SIZE)  # every scratch array of this pose: one allocation
+def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
+    """:func:`solve_all` (``filt`` -1) or :func:`solve_config` (``filt`` = 4 arm + 2 elbow +
+    wrist) with the caller's work array ``ws`` (WORK_SIZE,): every scratch array of the pose,
+    so that a batch allocates once."""
     mats = ws[_MATS:_MATS + 7 * 16].reshape((7, 4, 4))
     T07 = mats[_T07]
     frame07(Td, K, T07)

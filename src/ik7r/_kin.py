@@ -103,7 +103,7 @@ def fk_batch(Q, K, out):
         fk_user(Q[n], K, out[n])
 
 
-@njit
+@njit(allocates=True)  # (row copies between frames)
 def frames_batch(Q, K, out):
     """``Q`` (N, 6) -> world frames ``out`` (N, 9, 4, 4): base (frame 0), frames 1..7, tool."""
     for n in range(Q.shape[0]):
@@ -115,7 +115,7 @@ def frames_batch(Q, K, out):
         _times_tool(out[n, 8], K)
 
 
-@njit
+@njit(allocates=True)
 def jacobian(q, K, J):
     """Geometric Jacobian (6, 6) of the tool frame in world coordinates.
 
@@ -157,7 +157,7 @@ def fk_jacobian(q, K, T, J, ZO):
         J[5, c] += w * ZO[i, 2]
 
 
-@njit
+@njit(allocates=True)
 def rotation_log(R):
     """Rotation vector (3,) of a rotation matrix (axis * angle), robust near 0 and pi."""
     w = np.empty(3)
@@ -193,7 +193,7 @@ def rotation_log(R):
     return w
 
 
-@njit
+@njit(allocates=True)
 def pose_error(T, Td, e):
     """Error (6,) taking ``T`` to ``Td``: position difference, then world rotation vector."""
     for r in range(3):
@@ -265,7 +265,7 @@ def solve6(A, b, x):
     return small / big
 
 
-@njit
+@njit(allocates=True)
 def polish(q, Td, K, max_iter):
     """Newton-Raphson on the full forward kinematics from ``q`` (modified in place).
 

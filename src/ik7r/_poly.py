@@ -250,12 +250,6 @@ _NODES8 = np.cos(np.pi * np.arange(9) / 8)
 _NODES16 = np.cos(np.pi * np.arange(17) / 16)
 
 
-@njit
-def _nodes(n):
-    """The n + 1 Chebyshev-Lobatto points ``cos(pi j / n)`` of degree n (8 or 16)."""
-    return _NODES8 if n == 8 else _NODES16
-
-
 #: Binomial coefficients C(n, k) of the two degrees (exact in floating point)
 _BINOM8 = np.array([math.comb(8, k) for k in range(9)], dtype=np.float64)
 _BINOM16 = np.array([math.comb(16, k) for k in range(17)], dtype=np.float64)
@@ -281,7 +275,7 @@ def _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b, vals, mags):
     returns (rounding bound of b, 1.0 if some sample is nonzero beyond its own rounding else
     0.0)."""
     n = Bmat.shape[0] - 1
-    nodes = _nodes(n)
+    nodes = _NODES8 if n == 8 else _NODES16  # the degree is 8 or 16
     if kind == 0:
         _residual_at_nodes(d0, d1, p, a, K, nodes, vals, mags)
     for j in range(n + 1):
@@ -356,7 +350,8 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure, bcoef, work):
     noise[0], big = _bernstein(kind, d0, d1, p, a, K, Bmat, bnorm, b, vals, mags)
     if big == 0.0:
         return -1  # zero within rounding at every sample: a continuum
-    stack[0, :] = b
+    for i in range(nb):
+        stack[0, i] = b[i]
     fresh[0] = 1.0
     lo[0] = 0.0
     hi[0] = 1.0
@@ -380,7 +375,8 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure, bcoef, work):
             # undecided by the inherited bound: sample this interval afresh
             noise[top], _ = _bernstein(kind, d0 + width * t0, d0 + width * t1, p, a, K, Bmat,
                                        bnorm, b, vals, mags)
-            stack[top, :] = b
+            for i in range(nb):
+                stack[top, i] = b[i]
             fresh[top] = 1.0
             top += 1
             continue
@@ -399,7 +395,8 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure, bcoef, work):
         if sure or t1 - t0 <= WMIN or top + 2 > 64:
             count = _emit(blo, bhi, bsure, count, d0 + width * t0, d0 + width * t1, sure)
             if sure and bsure[count - 1] == 1.0:
-                bcoef[count - 1, :] = bb
+                for i in range(nb):
+                    bcoef[count - 1, i] = bb[i]
             continue
         # de Casteljau subdivision at the midpoint, in place: the right half replaces this
         # interval (row top), the left half goes above it, so that it is handled first
@@ -449,7 +446,7 @@ def _illinois(kind, x0, x1, f0, f1, p, a, K):
     return x0 if abs(f0) < abs(f1) else x1
 
 
-@njit
+@njit(allocates=True)
 def refine(kind, d0, d1, sure, bb, p, a, K, out, w):
     """Roots of the residual ``kind`` at d (the true residual, not its interpolant) in the bracket [d0, d1].
 

@@ -9,7 +9,7 @@ import numpy as np
 
 from . import _layout as L
 from ._checks import validate_pose
-from ._complete import solve_all, solve_config, wrap
+from ._complete import WORK_SIZE, solve_all, solve_config, solve_into, wrap
 from ._jit import njit
 
 HALF_PI = 0.5 * math.pi
@@ -33,7 +33,7 @@ def matches(q, arm, elbow, wrist):
     return w == wrist
 
 
-@njit
+@njit(allocates=True)
 def expand_within_limits(sols, n, K, out):
     """Every solution of ``sols[:n]`` shifted by multiples of 2 pi per joint into the joint
     limits (multi-turn joints give several); returns how many were written to ``out``."""
@@ -84,7 +84,7 @@ def nearest(sols, n, seed, wrapped):
     return best
 
 
-@njit
+@njit(allocates=True)
 def select(sols, n, arm, elbow, wrist, seed, within_limits, K, q_out):
     """Pick the solution with the indicators nearest ``seed``; False when there is none."""
     pool = np.empty((sols.shape[0] * 16 if within_limits else sols.shape[0], 6))
@@ -146,7 +146,7 @@ def _before(a, ca, b, cb):
     return False
 
 
-@njit
+@njit(allocates=True)
 def sort_solutions(sols, n):
     """Sort ``sols[:n]`` in place by configuration number, then joints (a stable insertion
     sort: the order of ``np.lexsort`` on those keys)."""
@@ -177,7 +177,7 @@ def _finite6(x):
     return True
 
 
-@njit
+@njit(allocates=True)
 def ik_all_one(T, tol, K, Bm, bnorm, hint, has_hint, within_limits, out):
     """Validate one pose ``T`` (4, 4), solve it and sort the solutions into ``out``.
 
@@ -201,7 +201,7 @@ def ik_all_one(T, tol, K, Bm, bnorm, hint, has_hint, within_limits, out):
     return n
 
 
-@njit
+@njit(allocates=True)
 def ik_one(T, tol, K, Bm, bnorm, arm, elbow, wrist, hint, has_hint, within_limits, sols, q_out):
     """Validate one pose, solve it and pick the solution with the indicators nearest ``hint``.
 
@@ -220,18 +220,20 @@ def ik_one(T, tol, K, Bm, bnorm, arm, elbow, wrist, hint, has_hint, within_limit
     return n, found
 
 
-@njit
+@njit(allocates=True)
 def config_rows(Ts, K, Bm, bnorm, arm, elbow, wrist, seeds, has_seed, within_limits,
                 ok_in, q_out, ok_out):
     """One configuration for every pose of ``Ts`` (N, 4, 4) whose ``ok_in`` is True; rows
     without a solution get NaN. ``seeds`` is (N, 6) or (1, 6) (the same seed for every row)."""
     sols = np.empty((L.MAX_SOLUTIONS, 6))
+    ws = np.empty(WORK_SIZE)
     per_row = seeds.shape[0] > 1
+    filt = 4 * arm + 2 * elbow + wrist
     for i in range(Ts.shape[0]):
         seed = seeds[i] if per_row else seeds[0]
         ok = False
         if ok_in[i]:
-            n = solve_config(Ts[i], K, Bm, bnorm, seed, has_seed, arm, elbow, wrist, sols)
+            n = solve_into(Ts[i], K, Bm, bnorm, seed, has_seed, sols, filt, ws)
             ok = select(sols, n, arm, elbow, wrist, seed, within_limits, K, q_out[i])
         ok_out[i] = ok
         if not ok:
@@ -239,17 +241,18 @@ def config_rows(Ts, K, Bm, bnorm, arm, elbow, wrist, seeds, has_seed, within_lim
                 q_out[i, j] = np.nan
 
 
-@njit
+@njit(allocates=True)
 def all_rows(Ts, K, Bm, bnorm, ok_in, out, counts):
     """Every solution of every pose of ``Ts`` (N, 4, 4) into ``out`` (N, W, 6), NaN after the
     ``counts[i]`` valid rows; poses whose ``ok_in`` is False have none."""
     sols = np.empty((L.MAX_SOLUTIONS, 6))
+    ws = np.empty(WORK_SIZE)
     hint = np.zeros(6)
     width = out.shape[1]
     for i in range(Ts.shape[0]):
         n = 0
         if ok_in[i]:
-            n = solve_all(Ts[i], K, Bm, bnorm, hint, False, sols)
+            n = solve_into(Ts[i], K, Bm, bnorm, hint, False, sols, -1, ws)
         n = min(n, width)
         counts[i] = n
         for s in range(n):

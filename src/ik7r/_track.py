@@ -28,7 +28,7 @@ def _within(q, K):
     return True
 
 
-@njit
+@njit(allocates=True)
 def track(Ts, K, Bm, bnorm, arm, elbow, wrist, seed, has_seed, within_limits, max_step,
           ok_in, q_out, ok_out, tracked_out):
     """Solve the poses ``Ts`` (N, 4, 4) in order, each from the previous solution.

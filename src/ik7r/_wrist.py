@@ -128,7 +128,7 @@ def wrist_target(R03, R07, K, Q):
         Q[2, j] = -sa * y + ca * z
 
 
-@njit
+@njit(allocates=True)
 def wrist_ik(Q, t5, t4_hint, K):
     """theta4 and theta7 (rad) with ``RotZ(theta4) W(t5) RotZ(theta7) = Q`` (Q's bend must
     match ``t5``). At the straight wrist (theta5 = 0) only theta4 + theta7 is defined:
