@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import ik7r
-from ik7r import _complete, _layout, _poly, _wrist
+from ik7r import _complete, _kin, _layout, _poly, _wrist
 from ik7r.configs import config_number
 from ik7r.solve import _matrices
 
@@ -127,3 +127,21 @@ def test_indicator_from_cosine_and_sine(robots, name):
                     assert got or asked != indicator
                 else:
                     assert got == (asked == indicator)
+
+
+def test_sincos_within_an_ulp_of_the_c_library():
+    """The forward kinematics' own sine and cosine, against ``math`` over the angles joints
+    take (and beyond), at the quadrant boundaries and at special values."""
+    rng = np.random.default_rng(13)
+    xs = np.concatenate([
+        rng.uniform(-4.0, 4.0, 20000),
+        rng.uniform(-1e4, 1e4, 5000),
+        np.arange(-16, 17) * (math.pi / 4),  # quadrant boundaries and their halves
+        np.nextafter(np.arange(-8, 9) * (math.pi / 2), np.inf),
+        [0.0, -0.0, 1e-300, -1e-300, 99999.9, -99999.9, 1e5, 3e8],
+    ])
+    for x in xs:
+        c, s = _kin.sincos(x)
+        assert abs(c - math.cos(x)) <= 2.3e-16 and abs(s - math.sin(x)) <= 2.3e-16, x
+    for x in (math.inf, -math.inf, math.nan):
+        assert all(math.isnan(v) for v in _kin.sincos(x))

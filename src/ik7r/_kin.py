@@ -55,7 +55,39 @@ def chain(theta, K, first, last, M, table=L.DH):
 @njit
 def _dh_step(M, K, table, trig, i, theta_i):
     """``M = M @ T(i-1, i)`` in place (eq. (1)) for DH angle ``theta_i``."""
-    dh_step_cs(M, K, table, trig, i, math.cos(theta_i), math.sin(theta_i))
+    c, s = sincos(theta_i)
+    dh_step_cs(M, K, table, trig, i, c, s)
+
+
+# sincos: Cody-Waite reduction by pi / 2 and the minimax polynomials of fdlibm's __kernel_sin
+# and __kernel_cos (Sun Microsystems, freely distributable), as in most C libraries' sin, cos
+_PIO2_HI = 1.57079632673412561417e00  # first 33 bits of pi / 2 (k * _PIO2_HI is exact)
+_PIO2_LO = 6.07710050650619224932e-11  # pi / 2 - _PIO2_HI
+_INV_PIO2 = 6.36619772367581382433e-01
+_S1, _S2, _S3 = -1.66666666666666324348e-01, 8.33333333332248946124e-03, -1.98412698298579493134e-04
+_S4, _S5, _S6 = 2.75573137070700676789e-06, -2.50507602534068634195e-08, 1.58969099521155010221e-10
+_C1, _C2, _C3 = 4.16666666666666019037e-02, -1.38888888888741095749e-03, 2.48015872894767294178e-05
+_C4, _C5, _C6 = -2.75573143513906633035e-07, 2.08757232129817482790e-09, -1.13596475577881948265e-11
+
+
+@njit
+def sincos(x):
+    """``(cos x, sin x)`` within an ulp of the C library's, about twice as fast (one shared
+    reduction, no call, no branch on the quadrant). |x| >= 1e5 rad, inf and nan go to the
+    C library."""
+    if not abs(x) < 1e5:
+        return math.cos(x), math.sin(x)
+    k = math.floor(x * _INV_PIO2 + 0.5)
+    r = (x - k * _PIO2_HI) - k * _PIO2_LO  # in [-pi / 4, pi / 4]
+    z = r * r
+    s = r + r * z * (_S1 + z * (_S2 + z * (_S3 + z * (_S4 + z * (_S5 + z * _S6)))))
+    hz = 0.5 * z
+    w = 1.0 - hz
+    c = w + (((1.0 - w) - hz) + z * z * (_C1 + z * (_C2 + z * (_C3 + z * (_C4 + z * (_C5 + z * _C6))))))
+    q = int(k) & 3  # quadrant: (c, s), (-s, c), (-c, -s), (s, -c)
+    odd = q & 1
+    return ((s if odd else c) * (1 - 2 * (((q + 1) >> 1) & 1)),
+            (c if odd else s) * (1 - 2 * (q >> 1)))
 
 
 @njit

@@ -250,22 +250,19 @@ _NODES8 = np.cos(np.pi * np.arange(9) / 8)
 _NODES16 = np.cos(np.pi * np.arange(17) / 16)
 
 
-#: Binomial coefficients C(n, k) of the two degrees (exact in floating point)
-_BINOM8 = np.array([math.comb(8, k) for k in range(9)], dtype=np.float64)
-_BINOM16 = np.array([math.comb(16, k) for k in range(17)], dtype=np.float64)
+def _to_power(n: int) -> np.ndarray:
+    """Matrix (n + 1, n + 1) taking Bernstein coefficients on [0, 1] to power-basis ones:
+    ``c_k = C(n, k) sum_i (-1)^(k - i) C(k, i) b_i`` (integers, exact in floating point)."""
+    P = np.zeros((n + 1, n + 1))
+    for k in range(n + 1):
+        for i in range(k + 1):
+            P[k, i] = math.comb(n, k) * (-1) ** (k - i) * math.comb(k, i)
+    return P
 
 
-@njit
-def _binomial(n, k):
-    """C(n, k) as a float."""
-    if n == 8:
-        return _BINOM8[k]
-    if n == 16:
-        return _BINOM16[k]
-    c = 1.0
-    for i in range(1, k + 1):
-        c = c * (n - i + 1) / i
-    return c
+#: Bernstein -> power basis of the two degrees the residual has
+_TO_POWER8 = _to_power(8)
+_TO_POWER16 = _to_power(16)
 
 
 @njit
@@ -498,15 +495,14 @@ def _newton_on_bracket(kind, d0, d1, bb, p, a, K, w):
         if (bb[i] > 0.0) != (bb[i + 1] > 0.0):
             s = (i + bb[i] / (bb[i] - bb[i + 1])) / n
             break
-    # power-basis coefficients on [0, 1] (c_k = C(n, k) times the k-th forward difference of
-    # bb): a start for the true residual needs no more accuracy than this conversion keeps
-    for i in range(n + 1):
-        w[i] = bb[i]
-    for k in range(1, n + 1):
-        for i in range(n, k - 1, -1):
-            w[i] -= w[i - 1]
-    for k in range(1, n):
-        w[k] *= _binomial(n, k)
+    # power-basis coefficients on [0, 1]: a start for the true residual needs no more
+    # accuracy than this conversion keeps
+    P = _TO_POWER8 if n == 8 else _TO_POWER16  # the degree is 8 or 16
+    for k in range(n + 1):
+        c = 0.0
+        for i in range(n + 1):  # (the whole row: a fixed trip count, P is lower triangular)
+            c += P[k, i] * bb[i]
+        w[k] = c
     s_lo = 0.0
     s_hi = 1.0
     slope = 0.0

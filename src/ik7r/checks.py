@@ -89,9 +89,27 @@ def poses_status(T, name: str = "T") -> tuple[np.ndarray, np.ndarray]:
     arr = _as_transforms(T, name)
     flat = np.ascontiguousarray(arr.reshape(-1, 4, 4))
     clean = np.empty(flat.shape)
+    ok = np.empty(flat.shape[0], dtype=bool)
+    poses_status_into(flat, clean, ok)
+    return clean.reshape(arr.shape), ok.reshape(arr.shape[:-2])
+
+
+def pose_batch(T, name: str = "T") -> np.ndarray:
+    """``T`` as a C-contiguous float array (N, 4, 4) (a copy only when it is not one already);
+    the poses themselves are checked by :func:`poses_status_into`."""
+    arr = _as_transforms(T, name)
+    if arr.ndim != 3:
+        raise ValueError(f"{name} must have shape (N, 4, 4); got {arr.shape}")
+    return np.ascontiguousarray(arr)
+
+
+def poses_status_into(flat: np.ndarray, clean: np.ndarray, ok: np.ndarray) -> None:
+    """:func:`poses_status` of ``flat`` (N, 4, 4) (C-contiguous floats) into ``clean``
+    (N, 4, 4) and ``ok`` (N,) bool: the batch functions run it chunk by chunk in their
+    threads."""
     codes = np.empty(flat.shape[0], dtype=np.int8)
     _kernel()[1](flat, ORTHONORMAL_TOL, clean, codes)
-    return clean.reshape(arr.shape), (codes == 0).reshape(arr.shape[:-2])
+    np.equal(codes, 0, out=ok)
 
 
 def transforms_status(T, name: str = "T") -> tuple[np.ndarray, np.ndarray, list[str]]:

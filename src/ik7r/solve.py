@@ -16,7 +16,14 @@ import numpy as np
 from . import _layout as L
 from ._poly import bernstein_matrices
 from ._select import all_rows, config_rows, ik_all_one, ik_one
-from .checks import ORTHONORMAL_TOL, check_config, check_joints, check_transforms, poses_status
+from .checks import (
+    ORTHONORMAL_TOL,
+    check_config,
+    check_joints,
+    check_transforms,
+    pose_batch,
+    poses_status_into,
+)
 from .configs import config_number, describe_config
 from .errors import UnreachableError
 
@@ -218,19 +225,20 @@ def ik_batch(robot, T, config=1, *, seed=None, within_limits: bool = False):
         row is still solved.
     """
     arm, elbow, wrist = check_config(config)
-    Tc, good = poses_status(T)
-    if Tc.ndim != 3:
-        raise ValueError(f"T must have shape (N, 4, 4); got {Tc.shape}")
-    n = Tc.shape[0]
+    T = pose_batch(T)
+    n = T.shape[0]
     seeds, has = _seed(seed, (n, 6))
     if not has:
         seeds = seeds[None]
     q = np.empty((n, 6))
     ok = np.empty(n, dtype=bool)
+    Tc = np.empty_like(T)
+    good = np.empty(n, dtype=bool)
     Bm, bnorm = _matrices(robot)
     K = robot.kernel_params
 
     def work(a, b):
+        poses_status_into(T[a:b], Tc[a:b], good[a:b])
         config_rows(Tc[a:b], K, Bm, bnorm, arm, elbow, wrist, seeds[a:b] if has else seeds, has,
                     bool(within_limits), good[a:b], q[a:b], ok[a:b])
 
@@ -251,16 +259,17 @@ def ik_all_batch(robot, T):
         ``K = MAX_SOLUTIONS``; invalid entries hold NaN. Valid entries come first in each row.
     valid : ndarray, shape (N, K), bool
     """
-    Tc, good = poses_status(T)
-    if Tc.ndim != 3:
-        raise ValueError(f"T must have shape (N, 4, 4); got {Tc.shape}")
-    n = Tc.shape[0]
+    T = pose_batch(T)
+    n = T.shape[0]
     out = np.empty((n, MAX_SOLUTIONS, 6))
     counts = np.empty(n, dtype=np.int64)
+    Tc = np.empty_like(T)
+    good = np.empty(n, dtype=bool)
     Bm, bnorm = _matrices(robot)
     K = robot.kernel_params
 
     def work(a, b):
+        poses_status_into(T[a:b], Tc[a:b], good[a:b])
         all_rows(Tc[a:b], K, Bm, bnorm, good[a:b], out[a:b], counts[a:b])
 
     _in_threads(n, work)
