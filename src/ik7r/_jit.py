@@ -30,10 +30,11 @@ def njit(func=None, *, vector=False, allocates=False):
     """Compile ``func`` lazily with numba (cached, no fastmath), or return it unchanged.
 
     Kernels work on arrays their caller owns (and views of them), so they are compiled
-    without numba's reference counting, whose atomic increments and decrements on every
-    view and call otherwise cost about a fifth of the solver's time. A kernel that creates an
-    array (``np.empty``...) or returns one it did not receive says ``@njit(allocates=True)``;
-    a kernel that calls such a kernel and keeps its result must say so too.
+    without numba's reference counting (its ``_nrt`` target option), whose atomic increments
+    and decrements on every view and call otherwise cost about a quarter of the solver's time.
+    A kernel that creates an array (``np.empty``...) or copies one by slice assignment says
+    ``@njit(allocates=True)``; numba refuses to compile one that does so without it, or that
+    returns an array it was not given.
 
     ``@njit(vector=True)``: a loop over independent samples that the compiler should turn into
     SIMD code. Float division by zero then gives inf or nan (numpy's rule) instead of raising,
@@ -43,8 +44,8 @@ def njit(func=None, *, vector=False, allocates=False):
         return lambda f: njit(f, vector=vector, allocates=allocates)
     if _njit is None:  # pragma: no cover
         return func
-    options = {"cache": True, "nogil": True}
+    # (_nrt is explicit either way: a callee would inherit its caller's otherwise)
+    options = {"cache": True, "nogil": True, "_nrt": bool(allocates)}
     if vector:
         options["error_model"] = "numpy"
-    options["_nrt"] = bool(allocates)  # (explicit: a callee inherits the caller's otherwise)
     return _njit(**options)(func)
