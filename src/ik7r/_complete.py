@@ -74,7 +74,7 @@ def _offsets(**sizes):
 # pose: a view of a stack entry costs nothing, a reshape does); these are their indices.
 _T07, _R07, _M, _Q, _T, _WR, _PSI = range(7)
 _W, WORK_SIZE = _offsets(
-    MATS=7 * 16, P=3, A=3, TH=3, Q6=6, QQ=6,
+    MATS=7 * 16, P=3, A=3, TH=6, Q6=6, QQ=6,
     BLO=_NBRACKETS, BHI=_NBRACKETS, BSURE=_NBRACKETS, FOUND=REFINE_GRID + 2,
     BCOEF=_NBRACKETS * _NB, CAST=_NB, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP,
 )
@@ -196,7 +196,7 @@ def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
     the idealised one: the polish would leave the singular wrist for one of the two solutions
     beside it, and the caller would stop looking for the other. Returns the new count and
     whether ``q`` is exact (appended now or already there). ``follow``: ``q`` solves the
-    idealised model, so it can be followed to the exact one (a homotopy). ``ws``: the pose's
+    idealised model, so it can be followed to the exact one (a homotopy). ``mats``: the pose's
     matrix stack (see :func:`solve_into`)."""
     T = mats[_T]
     fk_user(q, K, T)
