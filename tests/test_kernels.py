@@ -145,3 +145,20 @@ def test_sincos_within_an_ulp_of_the_c_library():
         assert abs(c - math.cos(x)) <= 2.3e-16 and abs(s - math.sin(x)) <= 2.3e-16, x
     for x in (math.inf, -math.inf, math.nan):
         assert all(math.isnan(v) for v in _kin.sincos(x))
+
+
+def test_rotation_log_inverts_the_exponential_up_to_pi():
+    """The polish's rotation error: exp(log R) = R, including angles at and near pi."""
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(17)
+    axes = rng.normal(size=(400, 3))
+    axes /= np.linalg.norm(axes, axis=1)[:, None]
+    angles = np.concatenate([rng.uniform(0, np.pi, 200), np.pi - np.geomspace(1e-3, 1e-12, 100),
+                             np.full(100, np.pi)])
+    w = np.empty(3)
+    for axis, angle in zip(axes, angles):
+        R = Rotation.from_rotvec(angle * axis).as_matrix()
+        _kin.rotation_log(R, w)
+        assert np.linalg.norm(w) <= np.pi + 1e-12
+        np.testing.assert_allclose(Rotation.from_rotvec(w).as_matrix(), R, atol=1e-9)

@@ -189,10 +189,10 @@ def fk_jacobian(q, K, T, J, ZO):
         J[5, c] += w * ZO[i, 2]
 
 
-@njit(allocates=True)
-def rotation_log(R):
-    """Rotation vector (3,) of a rotation matrix (axis * angle), robust near 0 and pi."""
-    w = np.empty(3)
+@njit
+def rotation_log(R, w):
+    """Rotation vector ``w`` (3,) of a rotation matrix ``R`` (axis * angle), robust near 0
+    and pi."""
     tr = R[0, 0] + R[1, 1] + R[2, 2]
     c = min(1.0, max(-1.0, 0.5 * (tr - 1.0)))
     vx = R[2, 1] - R[1, 2]
@@ -205,42 +205,36 @@ def rotation_log(R):
         w[0] = f * vx
         w[1] = f * vy
         w[2] = f * vz
-        return w
+        return
     # angle close to pi: axis from the diagonal of R + I
     k = 0
     if R[1, 1] > R[k, k]:
         k = 1
     if R[2, 2] > R[k, k]:
         k = 2
-    ax = np.empty(3)
-    for r in range(3):
-        ax[r] = 0.5 * (R[r, k] + R[k, r])
-    ax[k] = R[k, k] + 1.0
-    n = math.sqrt(ax[0] ** 2 + ax[1] ** 2 + ax[2] ** 2)
+    for r in range(3):  # the axis, into w
+        w[r] = R[k, k] + 1.0 if r == k else 0.5 * (R[r, k] + R[k, r])
+    n = math.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2)
     sgn = 1.0
-    if ax[0] * vx + ax[1] * vy + ax[2] * vz < 0.0:
+    if w[0] * vx + w[1] * vy + w[2] * vz < 0.0:
         sgn = -1.0
     for r in range(3):
-        w[r] = sgn * ang * ax[r] / n
-    return w
+        w[r] *= sgn * ang / n
 
 
-@njit(allocates=True)
-def pose_error(T, Td, e):
-    """Error (6,) taking ``T`` to ``Td``: position difference, then world rotation vector."""
+@njit
+def pose_error(T, Td, e, Rerr):
+    """Error ``e`` (6,) taking ``T`` to ``Td``: position difference, then world rotation vector
+    (``Rerr`` (3, 3): work array)."""
     for r in range(3):
         e[r] = Td[r, 3] - T[r, 3]
-    Rerr = np.empty((3, 3))
     for i in range(3):
         for j in range(3):
             s = 0.0
             for k in range(3):
                 s += Td[i, k] * T[j, k]
             Rerr[i, j] = s
-    w = rotation_log(Rerr)
-    e[3] = w[0]
-    e[4] = w[1]
-    e[5] = w[2]
+    rotation_log(Rerr, e[3:])
 
 
 @njit
@@ -321,7 +315,7 @@ def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO):
             return True
         if not (dp < 1e300 and dr < 1e300):
             return False
-        pose_error(T, Td, e)
+        pose_error(T, Td, e, ZO[:3, :3])  # (ZO is free until the next fk_jacobian)
         if solve6(J, e, dq) < 1e-14:
             return False
         # a limited step keeps the polish on the solution it started near

@@ -39,7 +39,7 @@ class NumericResult:
 
 def _errors(robot, q, Td, T, e):
     _kin.fk_user(q, robot.kernel_params, T)
-    _kin.pose_error(T, Td, e)
+    _kin.pose_error(T, Td, e, np.empty((3, 3)))
     return _kin.residual(T, Td)
 
 
