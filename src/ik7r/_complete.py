@@ -426,11 +426,11 @@ def _roots(kind, p, a, K, Bm, bnorm, roots, ws):
     found = ws[_FOUND:_FOUND + REFINE_GRID + 2]
     w = ws[_CAST:_CAST + nc]
     for k in range(nb):
-        if bsure[k] == 1.0:  # (refine's first case, without the extra call)
+        if bsure[k] == 1.0:  # exactly one root, and the interpolant on its bracket
             found[0] = _newton_on_bracket(kind, blo[k], bhi[k], bcoef[k], p, a, K, w)
             m = 1
         else:
-            m = refine(kind, blo[k], bhi[k], False, bcoef[k], p, a, K, found, w)
+            m = refine(kind, blo[k], bhi[k], p, a, K, found)
         for i in range(m):
             if count < roots.shape[0]:
                 # u -> d; for a model that deviates from the idealised one a root just outside

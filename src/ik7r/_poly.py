@@ -327,7 +327,7 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure, bcoef, work):
     (Descartes' rule of signs). Writes brackets ``[blo, bhi]`` (ascending, in d) and returns
     their number; ``bsure`` is 0.0 (else 1.0) for brackets no longer than ``WMIN`` that stayed
     undecided (a tangential root or a cluster); ``bcoef[k]`` (n + 1,) holds the Bernstein
-    coefficients of a sure bracket on it (for :func:`refine`). Returns -1 when the residual is
+    coefficients of a sure bracket on it (for :func:`_newton_on_bracket`). Returns -1 when the residual is
     zero within rounding everywhere (a continuum of solutions). Only intervals proved
     root-free are discarded. ``work``: at least ISOLATE_WORK floats (``bsure`` too is floats:
     1.0 for sure).
@@ -444,17 +444,13 @@ def _illinois(kind, x0, x1, f0, f1, p, a, K):
 
 
 @njit(allocates=True)
-def refine(kind, d0, d1, sure, bb, p, a, K, out, w):
-    """Roots of the residual ``kind`` at d (the true residual, not its interpolant) in the bracket [d0, d1].
+def refine(kind, d0, d1, p, a, K, out):
+    """Roots of the residual ``kind`` at d (the true residual, not its interpolant) in an
+    undecided bracket [d0, d1] (a sure one goes to :func:`_newton_on_bracket`).
 
-    A ``sure`` bracket (proved to hold exactly one root; ``bb`` are the Bernstein coefficients
-    of the interpolant on it) goes to :func:`_newton_on_bracket`. Otherwise sign changes on a
-    grid of the bracket are refined to full precision; without any, the grid point of least
-    ``|f|`` (a tangential root) is returned, refined to the least ``|f|``. Writes to ``out``,
-    returns the count (at least 1). ``w``: work array of the size of ``bb``."""
-    if sure:
-        out[0] = _newton_on_bracket(kind, d0, d1, bb, p, a, K, w)
-        return 1
+    Sign changes on a grid of the bracket are refined to full precision; without any, the grid
+    point of least ``|f|`` (a tangential root) is returned, refined to the least ``|f|``.
+    Writes to ``out``, returns the count (at least 1)."""
     m = REFINE_GRID
     xs = np.empty(m + 1)
     fs = np.empty(m + 1)

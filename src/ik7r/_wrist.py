@@ -133,18 +133,12 @@ def wrist_ik(Q, t5, t4_hint, K):
     """theta4 and theta7 (rad) with ``RotZ(theta4) W(t5) RotZ(theta7) = Q`` (Q's bend must
     match ``t5``). At the straight wrist (theta5 = 0) only theta4 + theta7 is defined:
     theta4 is then ``t4_hint``."""
-    return wrist_ik_into(Q, t5, t4_hint, K, np.empty((3, 3)))
-
-
-@njit
-def wrist_ik_into(Q, t5, t4_hint, K, W):
-    """:func:`wrist_ik` with a caller-provided work array ``W`` (3, 3)."""
-    return wrist_ik_cs(Q, math.cos(t5), math.sin(t5), t4_hint, K, W)
+    return wrist_ik_cs(Q, math.cos(t5), math.sin(t5), t4_hint, K, np.empty((3, 3)))
 
 
 @njit
 def wrist_ik_cs(Q, c5, s5, t4_hint, K, W):
-    """:func:`wrist_ik_into` given ``cos(t5)`` and ``sin(t5)``."""
+    """:func:`wrist_ik` given ``cos(t5)`` and ``sin(t5)``, with a work array ``W`` (3, 3)."""
     wrist_rotation_cs(c5, s5, K, W)
     # theta4 turns W's third column onto Q's about z: the angle between their xy parts
     dot = W[0, 2] * Q[0, 2] + W[1, 2] * Q[1, 2]
