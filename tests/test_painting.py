@@ -439,3 +439,18 @@ def test_cli_unreachable_path_exits_1_with_a_report(tmp_path, capsys):
 def test_cli_bad_input_exits_2(argv, tmp_path, capsys):
     assert main(argv + (["--out", str(tmp_path)] if len(argv) > 1 else [])) == 2
     assert capsys.readouterr().err.startswith("error:")
+
+
+def test_path_spray_flags_switch_at_samples():
+    from ik7r.painting import Path
+
+    P = np.array([[0.0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0]])
+    R = np.repeat(np.eye(3)[None], 4, axis=0)
+    path = Path(P, R, [0.0, 1, 2, 3], spray=[1, 1, 0, 1])
+    assert path.spray.dtype == bool and not path.spray.flags.writeable
+    # segment 0-1 on (both ends on), 1-2 off, 2-3 off; samples keep their own flag
+    np.testing.assert_array_equal(path.sprayed([0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0]),
+                                  [True, True, True, False, False, False, True])
+    assert Path(P, R, [0.0, 1, 2, 3]).spray.all()
+    with pytest.raises(ValueError, match="spray must be 4 flags"):
+        Path(P, R, [0.0, 1, 2, 3], spray=[1, 0, 2, 1])

@@ -76,6 +76,11 @@ class Path:
         samples. ``None``: linear positions and spherical (slerp) rotations between samples.
     name : str
         What the path is (for reports and plots).
+    spray : ndarray of bool, shape (N,), optional
+        The spray state at each sample (``True``: gun on). A segment between samples ``i`` and
+        ``i + 1`` is sprayed when both ends are on (:meth:`sprayed`), so a switch happens at a
+        sample: the last sample of a pass and the first of the next are on, the turn between
+        them is off. Default: on everywhere.
     """
 
     positions: np.ndarray
@@ -83,6 +88,7 @@ class Path:
     u: np.ndarray
     geometry: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]] | None = field(default=None, repr=False)
     name: str = "path"
+    spray: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         P = np.array(self.positions, dtype=float)
@@ -103,8 +109,18 @@ class Path:
             i = int(np.flatnonzero(du <= 0)[0])
             raise ValueError(f"the path parameter u must increase; samples {i} and {i + 1} have "
                              f"u = {u[i]:.9g} and {u[i + 1]:.9g} (coincident samples?)")
-        for arr in (P, R, u):
+        if self.spray is None:
+            spray = np.ones(P.shape[0], dtype=bool)
+        else:
+            spray = np.array(self.spray)
+            if spray.shape != (P.shape[0],) or spray.dtype.kind not in "biu" or not np.all(
+                    (spray == 0) | (spray == 1)):
+                raise ValueError(f"spray must be {P.shape[0]} flags (bool, or 0 and 1); got "
+                                 f"shape {spray.shape}, dtype {spray.dtype}")
+            spray = spray.astype(bool)
+        for arr in (P, R, u, spray):
             arr.setflags(write=False)
+        object.__setattr__(self, "spray", spray)
         object.__setattr__(self, "positions", P)
         object.__setattr__(self, "rotations", R)
         object.__setattr__(self, "u", u)
@@ -126,6 +142,18 @@ class Path:
     def length(self) -> float:
         """Total length of the positions (robot length unit)."""
         return float(self.arc_length[-1])
+
+    def sprayed(self, u) -> np.ndarray:
+        """Whether the gun is on at path parameters ``u`` (M,): bool ``(M,)``.
+
+        On inside a segment whose two end samples are on, and at an on sample itself.
+        """
+        u = np.atleast_1d(np.asarray(u, dtype=float))
+        i = np.clip(np.searchsorted(self.u, u, side="right") - 1, 0, len(self.u) - 2)
+        at_sample = np.isclose(u, self.u[i], rtol=0.0, atol=1e-12 * max(1.0, self.u[-1]))
+        at_next = np.isclose(u, self.u[i + 1], rtol=0.0, atol=1e-12 * max(1.0, self.u[-1]))
+        inside = self.spray[i] & self.spray[i + 1]
+        return np.where(at_sample, self.spray[i], np.where(at_next, self.spray[i + 1], inside))
 
     def at(self, u) -> tuple[np.ndarray, np.ndarray]:
         """Poses at path parameters ``u`` (M,) in ``[0, u[-1]]``.
