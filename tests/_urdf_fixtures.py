@@ -1,5 +1,5 @@
 """Test helpers: family robots built from DH tables, and URDFs written for them with the joint
-frames placed in different ways. Independent of ik7r.urdf (the code under test)."""
+frames placed in different ways. Independent of ik7r.robot.urdf (the code under test)."""
 
 from __future__ import annotations
 
@@ -9,8 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ik7r.model import Robot
-from ik7r.rotations import invert, matrix_to_rpy, rpy_to_matrix, transform
+from ik7r.geometry.rotations import invert, matrix_to_rpy, rpy_to_matrix, transform
+from ik7r.robot.model import Robot
 
 SHARED_IRB5400 = Path(__file__).resolve().parents[2] / "shared" / "robots" / "abb_irb5400.urdf"
 

@@ -12,7 +12,7 @@ which the wrist completes in two ways (+theta5 and -theta5).
 from __future__ import annotations
 
 import numpy as np
-from conftest import TABLE1, dh_link
+from helpers import TABLE1, dh_link
 
 
 def _wrist_geometry(t5):

@@ -29,15 +29,15 @@ __all__ = [
 
 def __getattr__(name: str):
     if name == "load_robot":
-        from .robotfile import load_robot
+        from .robot.files import load_robot
 
         return load_robot
     if name == "Robot":
-        from .model import Robot
+        from .robot.model import Robot
 
         return Robot
     if name == "MAX_SOLUTIONS":
-        from ._layout import MAX_SOLUTIONS
+        from ._kernels.params import MAX_SOLUTIONS  # no numba: params is plain numpy
 
         return MAX_SOLUTIONS
     raise AttributeError(f"module 'ik7r' has no attribute {name!r}")

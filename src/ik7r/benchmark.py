@@ -172,7 +172,7 @@ def numpy_fk(robot, q) -> np.ndarray:
 
     ``q`` (..., 6) rad -> (..., 4, 4).
     """
-    from .rotations import dh_transform
+    from .geometry.rotations import dh_transform
 
     q = np.asarray(q, dtype=float)
     dh = robot.dh
@@ -275,7 +275,7 @@ def machine_info() -> dict:
     except ImportError:  # pragma: no cover
         info["numba"] = None
     from . import __version__
-    from .solve import num_threads
+    from .ik.solve import num_threads
 
     info["ik7r"] = __version__
     info["threads"] = num_threads()
@@ -305,7 +305,7 @@ def run_benchmarks(robot=None, *, quick: bool = False, n: int | None = None, siz
     pinocchio : bool
         Include pinocchio when ``import pinocchio`` works.
     big : int
-        Also solve this many random poses with :func:`ik7r.batch.solve_all_chunked`.
+        Also solve this many random poses with :func:`ik7r.ik.chunked.solve_all_chunked`.
     log : callable, optional
         Called with a line of text as each part starts (progress on stderr).
     """
@@ -469,7 +469,7 @@ def run_benchmarks(robot=None, *, quick: bool = False, n: int | None = None, siz
 
 
 def _threads_note(n: int) -> str:
-    from .solve import threads_for
+    from .ik.solve import threads_for
 
     k = threads_for(n)
     return "1 thread" if k == 1 else f"{k} threads"
@@ -485,7 +485,7 @@ def _verify_all(robot, q: np.ndarray, valid: np.ndarray, T: np.ndarray, Q: np.nd
 
 
 def _trajectory_rows(robot, rng, sizes: Sizes, ratio_b) -> list[Row]:
-    from .track import ik_path
+    from .ik.path import ik_path
 
     Qp = _path_joints(rng, sizes.trajectory)
     Tp = robot.fk(Qp)
@@ -512,7 +512,7 @@ def _trajectory_rows(robot, rng, sizes: Sizes, ratio_b) -> list[Row]:
 
 def _baseline_rows(robot, rng, sizes: Sizes, ratio_s, want_pinocchio: bool, skipped: list[str],
                    say) -> list[Row]:
-    from .numeric import damped_least_squares, newton_raphson
+    from .ik.numeric import damped_least_squares, newton_raphson
 
     rows = []
     # the paper's iteration, in each pose's own configuration, random theta5 start (the paper's)
@@ -574,7 +574,7 @@ def _baseline_rows(robot, rng, sizes: Sizes, ratio_s, want_pinocchio: bool, skip
 def _scipy_row(robot, Tn, starts, ratio_s, sizes: Sizes) -> Row:
     from scipy.optimize import least_squares
 
-    from .rotations import wrap_angle
+    from .geometry.rotations import wrap_angle
 
     scale = robot.family.scale
 
@@ -609,7 +609,7 @@ def _pinocchio_row(robot, Tn, starts, ratio_s, sizes: Sizes) -> Row | str:
         import pinocchio as pin
     except ImportError:
         return "import pinocchio failed: pip install pin"
-    from .robotfile import METRES_PER_UNIT
+    from .units import METRES_PER_UNIT
 
     m_per_unit = METRES_PER_UNIT[robot.unit]
     try:
@@ -658,7 +658,7 @@ _BIG_SCRIPT = r"""
 import json, resource, sys, time
 import numpy as np
 import ik7r
-from ik7r.batch import RandomPoses, solve_all_chunked
+from ik7r.ik.chunked import RandomPoses, solve_all_chunked
 from ik7r.benchmark import SEED, _verify_all
 robot = ik7r.load_robot(sys.argv[2] if len(sys.argv) > 2 else None)
 n = int(sys.argv[1])
@@ -716,13 +716,13 @@ t4 = time.perf_counter()
 print(json.dumps({"numpy": t1 - t0, "numba": t2 - t1, "first_kernel": t3 - t2, "first_ik": t4 - t3}))
 """
 
-_NO_NUMBA = ("import sys; sys.modules['numba'] = None; from ik7r.cli import main; "
+_NO_NUMBA = ("import sys; sys.modules['numba'] = None; from ik7r.cli.app import main; "
              "sys.exit(main(sys.argv[1:]))")
 
 
 def _startup_rows(reps: int) -> list[Row]:
-    from .robotfile import load_robot
-    from .rotations import matrix_to_rpy
+    from .geometry.rotations import matrix_to_rpy
+    from .robot.files import load_robot
 
     rows = []
     runs = []
@@ -744,7 +744,7 @@ def _startup_rows(reps: int) -> list[Row]:
     args = ["ik", "--position", *(repr(float(x)) for x in T[:3, 3]),
             "--rpy", *(repr(float(x)) for x in np.degrees(matrix_to_rpy(T[:3, :3])))]
     script = Path(sys.executable).with_name("ik7r")
-    base = [str(script)] if script.exists() else [sys.executable, "-m", "ik7r.cli"]
+    base = [str(script)] if script.exists() else [sys.executable, "-m", "ik7r.cli.app"]
     for name, cmd, note in (
         ("ik7r ik ... end to end", base + args, "process start to answer; the paper robot"),
         ("ik7r ik, kernels in pure Python (experiment)", [sys.executable, "-c", _NO_NUMBA] + args,
@@ -840,7 +840,7 @@ def format_markdown(report: BenchReport) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     """``python benchmarks/run.py`` / ``python -m ik7r.benchmark``: same options as ``ik7r bench``."""
-    from .cli import main as cli_main
+    from .cli.app import main as cli_main
 
     return cli_main(["bench", *(sys.argv[1:] if argv is None else argv)])
 

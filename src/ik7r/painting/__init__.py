@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..checks import check_transforms
+from ..geometry.checks import check_transforms
 from .events import (
     JOINT_LABELS,
     AccelerationLimit,

@@ -24,7 +24,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..rotations import invert
+from ..geometry.rotations import invert
+from ..units import METRES_PER_UNIT, unit_scale
 from .events import (
     AccelerationLimit,
     DeviationExceeded,
@@ -43,16 +44,15 @@ DEFAULT_RAMP = 1.0
 DEFAULT_RATE = 100.0
 #: Default deviation tolerance, in mm (converted to the robot's length unit).
 DEFAULT_TOLERANCE_MM = 0.01
-_MM_PER_UNIT = {"mm": 1.0, "cm": 10.0, "m": 1000.0, "in": 25.4}
 _CHECK_FRACTIONS = np.arange(1, 8) / 8.0
 
 
 def default_tolerance(unit: str) -> float:
     """0.01 mm in ``unit`` (``mm``, ``cm``, ``m`` or ``in``)."""
-    if unit not in _MM_PER_UNIT:
+    if unit not in METRES_PER_UNIT:
         raise ValueError(f"unknown length unit {unit!r}; give tolerance= explicitly "
-                         f"(known units: {sorted(_MM_PER_UNIT)})")
-    return DEFAULT_TOLERANCE_MM / _MM_PER_UNIT[unit]
+                         f"(known units: {sorted(METRES_PER_UNIT)})")
+    return DEFAULT_TOLERANCE_MM * unit_scale("mm", unit)
 
 
 def _ramp_u(x):

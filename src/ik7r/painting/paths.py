@@ -22,8 +22,8 @@ from pathlib import Path as FilePath
 
 import numpy as np
 
-from ..checks import check_transforms
-from ..rotations import quat_to_matrix, rpy_to_matrix, transform
+from ..geometry.checks import check_transforms
+from ..geometry.rotations import quat_to_matrix, rpy_to_matrix, transform
 
 __all__ = [
     "Path",

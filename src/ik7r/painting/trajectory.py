@@ -30,10 +30,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..checks import check_config, check_joints
-from ..configs import config_of_indicators
 from ..errors import UnreachableError
-from ..rotations import wrap_angle
+from ..geometry.checks import check_config, check_joints
+from ..geometry.configs import config_of_indicators
+from ..geometry.rotations import wrap_angle
 from .events import (
     JOINT_LABELS,
     BranchChange,

@@ -140,7 +140,7 @@ def reproduce(out_dir, *, plan: Plan = FULL, robot=None, progress=None) -> Repro
     """
     start = time.perf_counter()
     if robot is None:
-        from ..robotfile import load_robot
+        from ..robot.files import load_robot
 
         robot = load_robot()
     out = Path(out_dir)

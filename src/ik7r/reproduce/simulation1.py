@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..numeric import damped_least_squares, newton_raphson
-from ..rotations import wrap_angle
+from ..geometry.rotations import wrap_angle
+from ..ik.numeric import damped_least_squares, newton_raphson
 from .published import PAPER_TABLE2, PAPER_TABLE3, SIMULATION1_Q_DEG, TABLE3_STARTS_DEG
 
 __all__ = [

@@ -1,0 +1,66 @@
+"""The compiled kernels: pure functions over arrays, compiled by numba (see :mod:`.jit`).
+
+Everything outside this package reaches the kernels through the names below (imported lazily:
+importing a kernel module imports numba). Every kernel reads the robot through one flat
+``float64`` parameter vector ``K`` whose fields :mod:`.params` names and packs.
+
+========== ===========================================================================
+module     what it computes
+========== ===========================================================================
+params     the layout of ``K`` and its packing from a robot; the Bernstein tables
+fk         DH chain, forward kinematics, frames, Jacobian, pose error, Newton polish
+arm        the arm (joints 1-3) for a virtual wrist centre
+wrist      the wrist (joints 4, 5, 7) and the theta5 <-> d map
+poly       the residual polynomial and its certified root isolation
+complete   every solution of one pose
+select     indicators, joint limits, nearest to a seed; fused single and batch calls
+track      warm-started paths
+validate   pose validation inside the compiled batch loops
+jit        the one place that knows numba
+========== ===========================================================================
+"""
+
+from __future__ import annotations
+
+from .._lazy import lazy_exports
+
+_MODULES = ("params",)
+_EXPORTS = {
+    "JIT_ENABLED": "jit",
+    "fk_batch": "fk", "fk_user": "fk", "frames_batch": "fk", "jacobian": "fk", "chain": "fk",
+    "residual": "fk", "user_angle": "fk", "pose_error": "fk", "solve6": "fk",
+    "arm_ik": "arm",
+    "d_of_theta5": "wrist", "theta5_of_cos_bend": "wrist", "wrist_ik": "wrist", "wrist_target": "wrist",
+    "frame07": "complete",
+    "all_rows": "select", "config_rows": "select", "ik_all_one": "select", "ik_one": "select",
+    "track": "track",
+    "validate_pose": "validate", "validate_poses": "validate",
+}
+
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, _MODULES)
+__all__ = [
+    "JIT_ENABLED",
+    "all_rows",
+    "arm_ik",
+    "chain",
+    "config_rows",
+    "d_of_theta5",
+    "fk_batch",
+    "fk_user",
+    "frame07",
+    "frames_batch",
+    "ik_all_one",
+    "ik_one",
+    "jacobian",
+    "pose_error",
+    "residual",
+    "solve6",
+    "theta5_of_cos_bend",
+    "track",
+    "user_angle",
+    "validate_pose",
+    "validate_poses",
+    "wrist_ik",
+    "wrist_target",
+    "params",
+]

@@ -1,0 +1,61 @@
+"""Compiled kernel of the arm (joints 1 to 3): place axis 4's point at distance ``L`` from
+the x3 axis on a given point (the paper's Appendix 1, generalised to OPW-style offsets).
+
+The arm is ``R perp R parallel R``: DH rows ``(0, 0, d1)``, ``(a1, eps1 90 deg, d2)``,
+``(a2, 0, d3)``, ``(a3, eps3 90 deg, d4)``. In frame 1 the arm is planar: the point reached is
+``(a1 + Xx, -eps1 b, eps1 Xy)`` with ``b = d2 + d3`` the lateral offset and
+``X = RotZ(theta2) [a2 + a3 c3 + eps3 L s3,  a3 s3 - eps3 L c3]``.
+"""
+
+from __future__ import annotations
+
+import math
+
+from . import params as L
+from .jit import njit
+
+
+@njit
+def arm_ik(px, py, pz, Ld, front, elbow, t1_hint, K):
+    """DH angles (theta1, theta2, theta3) placing the point at distance ``Ld`` along axis 4
+    on ``(px, py, pz)`` (frame 0). ``front`` (+-1) picks the shoulder branch (+1 reaches
+    forward of the shoulder), ``elbow`` (+-1) the elbow branch. On axis 1 (shoulder
+    singularity, zero lateral offset) theta1 is ``t1_hint``. Returns ``ok = False`` when the
+    point is out of reach (by more than rounding)."""
+    a1 = K[L.A1]
+    a2 = K[L.A2]
+    a3 = K[L.A3]
+    b = K[L.B]
+    e1 = K[L.EPS1]
+    e3 = K[L.EPS3]
+    scale = K[L.SCALE]
+    ok = True
+    r2 = px * px + py * py
+    disc = r2 - b * b
+    if disc < 0.0:
+        if disc < -(1e-12 * scale) ** 2:
+            ok = False
+        disc = 0.0
+    rho = front * math.sqrt(disc)
+    bp = -e1 * b
+    if r2 > (1e-13 * scale) ** 2:
+        t1 = math.atan2(rho * py - bp * px, rho * px + bp * py)
+    else:
+        t1 = t1_hint
+        rho = front * (px * math.cos(t1) + py * math.sin(t1))
+    xx = rho - a1
+    xy = e1 * (pz - K[L.D1])
+    m = (xx * xx + xy * xy - a2 * a2 - a3 * a3 - Ld * Ld) / (2.0 * a2)
+    R = math.hypot(a3, Ld)
+    c = m / R
+    if abs(c) > 1.0:
+        if abs(c) > 1.0 + 1e-12:
+            ok = False
+        c = max(-1.0, min(1.0, c))
+    t3 = math.atan2(e3 * Ld, a3) + elbow * math.acos(c)
+    c3 = math.cos(t3)
+    s3 = math.sin(t3)
+    x2 = a2 + a3 * c3 + e3 * Ld * s3
+    y2 = a3 * s3 - e3 * Ld * c3
+    t2 = math.atan2(xy, xx) - math.atan2(y2, x2)
+    return t1, t2, t3, ok

@@ -1,0 +1,599 @@
+"""Compiled kernel of the complete solver: every solution of one pose, certified.
+
+1. Sample the residual polynomial G(d) of :mod:`ik7r._kernels.poly` at Chebyshev points over the
+   whole range of the virtual offset d (theta5 over [-pi, pi]) and isolate all its real
+   roots (no root can be missed; tangential roots and clusters come back as candidates).
+2. At each root, solve the two conditions that are linear in (cos psi, sin psi) for each
+   shoulder branch, which gives theta1, theta2, theta3 exactly; theta5 = +-theta5(d); the wrist
+   gives theta4 and theta7 from the orientation.
+3. Verify every candidate on the exact forward kinematics; polish it with Newton-Raphson when
+   it misses (the nominal model differs from the exact one, or a root sits at a tangency);
+   drop it when it cannot be made exact. Remove duplicates.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import params as L
+from .fk import dh_step_cs, fk_user, polish, residual, user_angle
+from .jit import njit
+from .poly import (
+    ISOLATE_WORK,
+    MAX_DEGREE,
+    REFINE_GRID,
+    _golden,
+    _newton_on_bracket,
+    bend_row_on_axis,
+    isolate,
+    linear_system,
+    refine,
+    residual_of,
+)
+from .wrist import d_of_theta5, theta5_cs_of_d, theta5_of_bend, wrist_ik_cs, wrist_target
+
+TWO_PI = 2.0 * math.pi
+DUP_TOL = 1e-5  # two solutions closer than this (rad, every joint) are one (near a singular arm or
+# wrist the FK is flat and its exact solutions come as clusters of numerically equal shadows)
+
+
+#: Most candidate roots of one pose: every bracket (24) may give REFINE_GRID + 2 candidates.
+ROOT_CAP = 24 * (REFINE_GRID + 2)
+#: Start (rad) off a singular wrist for polishing models that deviate from the idealised one.
+NEAR_SINGULAR = 2e-3
+#: Near-miss scan of deviating models: grid size, and how close to zero (relative to the
+#: magnitude of the residual's terms) a local minimum of |residual| must come.
+NEAR_GRID = 64
+NEAR_RATIO = 1e-2
+#: solve_config skips candidates whose indicators differ beyond this margin (rad) from a
+#: boundary (larger for deviating models, whose polish moves the joints further).
+FILTER_MARGIN = 1e-3
+FILTER_MARGIN_DEVIATING = 0.1
+#: Window (rad) around theta5 = 0 and pi where solutions are tried at exactly 0 or pi first, and
+#: where nearly folded solutions merge into the folded one.
+FOLD_WINDOW = 1e-4
+
+#: Largest number of Bernstein coefficients, and of brackets.
+_NB = MAX_DEGREE + 1
+_NBRACKETS = 24
+
+
+def _offsets(**sizes):
+    """Consecutive offsets of named blocks in one work array, and its total size."""
+    out, at = {}, 0
+    for name, size in sizes.items():
+        out[name] = at
+        at += size
+    return out, at
+
+
+# One work array per pose (see solve_into) holds every scratch block.
+# Its small matrices are one block viewed as a stack of 4 x 4 matrices (``mats``, made once per
+# pose: a view of a stack entry costs nothing, a reshape does); these are their indices.
+_T07, _R07, _M, _Q, _T, _WR, _PSI = range(7)
+_W, WORK_SIZE = _offsets(
+    MATS=7 * 16, P=3, A=3, TH=6, Q6=6, QQ=6,
+    BLO=_NBRACKETS, BHI=_NBRACKETS, BSURE=_NBRACKETS, FOUND=REFINE_GRID + 2,
+    BCOEF=_NBRACKETS * _NB, CAST=_NB, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP,
+)
+_MATS, _P, _A, _TH, _Q6, _QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"], _W["QQ"]
+_BLO, _BHI, _BSURE, _FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
+_BCOEF, _CAST, _ISO, _ROOTS = _W["BCOEF"], _W["CAST"], _W["ISO"], _W["ROOTS"]
+
+
+@njit
+def wrap(x):
+    """Angle wrapped to (-pi, pi]."""
+    y = (x + math.pi) - TWO_PI * math.floor((x + math.pi) / TWO_PI)  # in [0, 2 pi)
+    if y <= 0.0:
+        y += TWO_PI
+    return y - math.pi
+
+
+@njit
+def frame07(Td, K, T07):
+    """Frame 0 <- 7 of a world <- tool target: ``BASE^-1 Td TOOL^-1``."""
+    for i in range(4):
+        m0 = 0.0
+        m1 = 0.0
+        m2 = 0.0
+        m3 = 0.0
+        for k in range(4):
+            b = K[L.BASE_INV + 4 * i + k]
+            m0 += b * Td[k, 0]
+            m1 += b * Td[k, 1]
+            m2 += b * Td[k, 2]
+            m3 += b * Td[k, 3]
+        for j in range(4):
+            T07[i, j] = (m0 * K[L.TOOL_INV + j] + m1 * K[L.TOOL_INV + 4 + j]
+                         + m2 * K[L.TOOL_INV + 8 + j] + m3 * K[L.TOOL_INV + 12 + j])
+
+
+@njit
+def _psi_candidates(a11, a12, m, a21, a22, c, out, tol=1e-4):
+    """(cos psi, sin psi) solving the 2 x 2 system on the unit circle: 0, 1 or 2 of them
+    (the Cramer solution is accepted ``tol`` off the circle, then projected onto it)."""
+    det = a11 * a22 - a12 * a21
+    s1 = abs(a11) + abs(a12)
+    s2 = abs(a21) + abs(a22)
+    if abs(det) > 1e-9 * s1 * s2:
+        cp = (m * a22 - a12 * c) / det
+        sp = (a11 * c - a21 * m) / det
+        nrm = math.sqrt(cp * cp + sp * sp)
+        if abs(nrm - 1.0) > tol:
+            return 0
+        out[0, 0] = cp / nrm
+        out[0, 1] = sp / nrm
+        return 1
+    # rows (nearly) parallel: intersect the elbow row's line with the unit circle (the
+    # candidates are verified on the forward kinematics afterwards)
+    if s1 > 0.0:
+        u, v, w = a11 / s1, a12 / s1, m / s1
+    elif s2 > 0.0:
+        u, v, w = a21 / s2, a22 / s2, c / s2
+    else:
+        return 0
+    nn = u * u + v * v
+    disc = nn - w * w
+    if disc < -1e-9 * nn:
+        return 0
+    root = math.sqrt(max(disc, 0.0))
+    k = 0
+    for sgn in (1.0, -1.0):
+        cp = (u * w - sgn * v * root) / nn
+        sp = (v * w + sgn * u * root) / nn
+        out[k, 0] = cp
+        out[k, 1] = sp
+        k += 1
+        if root == 0.0:
+            break
+    return k
+
+
+@njit
+def _straight_split(q, Q, K, hint, has_hint):
+    """At the straight wrist (theta5 = 0) only theta4 + theta7 is defined: split it nearest to
+    the hint, else with theta4 = 0."""
+    s4 = K[L.SIGN + 3]
+    s7 = K[L.SIGN + 6]
+    total = math.atan2(Q[1, 0], Q[0, 0]) - K[L.DH + 15] - K[L.DH + 27]  # s4 q4 + s7 q7
+    if has_hint:
+        lam = 0.5 * wrap(total - s4 * hint[3] - s7 * hint[5])
+        q[3] = hint[3] + s4 * lam
+        q[5] = hint[5] + s7 * lam
+    else:
+        q[3] = 0.0
+        q[5] = s7 * total
+
+
+@njit
+def _add(q, out, count):
+    """Append ``q`` (wrapped) to ``out[:count]`` unless it is already there."""
+    for i in range(6):
+        q[i] = wrap(q[i])
+    for k in range(count):
+        same = True
+        for i in range(6):
+            if abs(wrap(out[k, i] - q[i])) > DUP_TOL:
+                same = False
+                break
+        if same:
+            return count
+    if count < out.shape[0]:
+        for i in range(6):
+            out[count, i] = q[i]
+        count += 1
+    return count
+
+
+@njit
+def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
+    """Verify ``q`` on the exact forward kinematics (polishing it if needed) and append it.
+
+    A ``snap`` (theta5 set to exactly 0 or pi) is not polished on a model that deviates from
+    the idealised one: the polish would leave the singular wrist for one of the two solutions
+    beside it, and the caller would stop looking for the other. Returns the new count and
+    whether ``q`` is exact (appended now or already there). ``follow``: ``q`` solves the
+    idealised model, so it can be followed to the exact one (a homotopy). ``mats``: the pose's
+    matrix stack (see :func:`solve_into`)."""
+    T = mats[_T]
+    fk_user(q, K, T)
+    dp, dr = residual(T, Td)
+    if dp > K[L.POS_TOL] or dr > K[L.ROT_TOL]:
+        if K[L.DEVIATION] > 0.0:
+            if snap:
+                return count, False
+            # follow the solution from the idealised model to the exact one in small steps, so
+            # that each candidate lands on its own exact solution even inside a close cluster
+            for k in range(L.HOMOTOPY_STEPS if follow else 0):
+                polish(q, Td, K[L.HOMOTOPY + k * L.BASE_SIZE:L.HOMOTOPY + (k + 1) * L.BASE_SIZE], 4)
+            if not polish(q, Td, K, 30):
+                return count, False
+        elif not polish(q, Td, K, 8):
+            return count, False
+    return _add(q, out, count), True
+
+
+@njit
+def _arm_from_psi(d, rho, cp, sp, pz, c1, s1, K, th):
+    """Cosines and sines of DH theta1..3 (into ``th``: c1, c2, c3, s1, s2, s3) from those of
+    theta1 (the shoulder branch) and of psi = theta2 + theta3 (no trigonometric call: the
+    angles themselves are needed only for accepted candidates)."""
+    a3 = K[L.A3]
+    e1 = K[L.EPS1]
+    e3 = K[L.EPS3]
+    Ld = K[L.D4] + d
+    xx = rho - K[L.A1]
+    xy = e1 * (pz - K[L.D1])
+    ex = xx - a3 * cp - Ld * e3 * sp
+    ey = xy - a3 * sp + Ld * e3 * cp
+    n = math.sqrt(ex * ex + ey * ey)
+    c2, s2 = (ex / n, ey / n) if n > 0.0 else (1.0, 0.0)  # as atan2(0, 0) = 0
+    th[0] = c1
+    th[1] = c2
+    th[2] = cp * c2 + sp * s2  # theta3 = psi - theta2
+    th[3] = s1
+    th[4] = s2
+    th[5] = sp * c2 - cp * s2
+
+
+@njit
+def _filter_margin(K):
+    """FILTER_MARGIN, or FILTER_MARGIN_DEVIATING for a model that deviates from the idealised one."""
+    return FILTER_MARGIN if K[L.DEVIATION] == 0.0 else FILTER_MARGIN_DEVIATING
+
+
+@njit
+def _may_match(i, c, s, indicator, margin, K):
+    """Whether joint ``i`` (0-based) at the DH angle of cosine ``c`` and sine ``s`` may have the
+    indicator (1: user angle in [-pi/2, pi/2), where its cosine is positive) once polished:
+    True when it is within about ``margin`` (rad) of a boundary."""
+    # cos(user angle) = cos(theta - theta_offset) whatever the joint's sign
+    cq = c * K[L.OFFSET_TRIG + 2 * i] + s * K[L.OFFSET_TRIG + 2 * i + 1]
+    if abs(cq) < margin:
+        return True
+    return (cq > 0.0) == (indicator == 1)
+
+
+@njit
+def _angle(th, i):
+    """DH theta_(i+1) from its cosine and sine in ``th`` (see :func:`_arm_from_psi`)."""
+    return math.atan2(th[3 + i], th[i])
+
+
+@njit
+def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Complete DH theta1..3 with the wrist for offset ``d``; accept every exact solution
+    (with ``filt`` >= 0, only those that may have its indicators: see :func:`solve_config`)."""
+    margin = _filter_margin(K)
+    if filt >= 0:
+        if not (_may_match(0, th[0], th[3], filt >> 2, margin, K)
+                and _may_match(2, th[2], th[5], (filt >> 1) & 1, margin, K)):
+            return count
+    M = mats[_M]
+    for i in range(4):
+        for j in range(4):
+            M[i, j] = 1.0 if i == j else 0.0
+    for i in range(3):
+        dh_step_cs(M, K, L.NDH, L.TRIG + 14, i, th[i], th[3 + i])
+    Q = mats[_Q, :3, :3]
+    wrist_target(M[:3, :3], R07, K, Q)
+    t5, c5, s5 = theta5_cs_of_d(d, K)
+    q = ws[_Q6:_Q6 + 6]
+    qq = ws[_QQ:_QQ + 6]  # q completed with a wrist solution
+    for i in range(3):
+        q[i] = user_angle(i, _angle(th, i), K)
+    t4_hint = K[L.SIGN + 3] * hint[3] + K[L.DH + 15]
+    if t5 < FOLD_WINDOW:
+        # straight wrist: one member of the theta4 + theta7 family
+        for i in range(6):
+            qq[i] = q[i]
+        qq[4] = user_angle(4, 0.0, K)
+        _straight_split(qq, Q, K, hint, has_hint)
+        count, exact = _accept(qq, Td, K, out, count, mats, True)
+        if exact:
+            return count
+        # nearly straight: theta5 from the bend itself (d is flat in theta5 at zero)
+        t5 = theta5_of_bend(Q, K)
+        if t5 == 0.0:
+            return count
+        c5, s5 = math.cos(t5), math.sin(t5)
+    if math.pi - t5 < FOLD_WINDOW:
+        # fully bent wrist: the two wrist solutions merge into one, at theta5 = pi exactly
+        count, exact = _accept(_with_wrist(q, Q, math.pi, -1.0, 0.0, t4_hint, K, mats, qq), Td,
+                               K, out, count, mats, True)
+        if exact:
+            return count
+    # a model that is not exactly the idealised one (rounded published numbers): a start on
+    # the singular fold or straight wrist would stall Newton's polish; start just inside
+    t5_alt = -1.0
+    if K[L.DEVIATION] > 0.0:
+        if math.pi - t5 < NEAR_SINGULAR:
+            t5_alt = math.pi - NEAR_SINGULAR
+        elif t5 < NEAR_SINGULAR:
+            t5_alt = NEAR_SINGULAR
+    for sgn in (1.0, -1.0):
+        if filt >= 0 and margin < t5 < math.pi - margin:
+            q5 = wrap(user_angle(4, sgn * t5, K))
+            if (1 if 0.0 <= q5 < math.pi else 0) != (filt & 1):
+                continue
+        count, _ = _accept(_with_wrist(q, Q, sgn * t5, c5, sgn * s5, t4_hint, K, mats, qq), Td,
+                           K, out, count, mats)
+        if t5_alt > 0.0:  # (both signs polish from one singular point: also start off it)
+            alt = sgn * t5_alt
+            count, _ = _accept(_with_wrist(q, Q, alt, math.cos(alt), math.sin(alt), t4_hint, K,
+                                           mats, qq), Td, K, out, count, mats, False, False)
+    return count
+
+
+@njit
+def _with_wrist(q, Q, t5, c5, s5, t4_hint, K, mats, qq):
+    """``qq``: a copy of ``q`` (arm joints set) completed with the wrist for DH angle ``t5``
+    (cosine ``c5``, sine ``s5``)."""
+    t4, t7 = wrist_ik_cs(Q, c5, s5, t4_hint, K, mats[_WR, :3, :3])
+    for i in range(6):
+        qq[i] = q[i]
+    qq[3] = user_angle(3, t4, K)
+    qq[4] = user_angle(4, t5, K)
+    qq[5] = user_angle(6, t7, K)
+    return qq
+
+
+@njit
+def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Every exact solution whose virtual offset is the root ``d``."""
+    t = K[L.D7] + d
+    px = p[0] - t * a[0]
+    py = p[1] - t * a[1]
+    pz = p[2] - t * a[2]
+    r2 = px * px + py * py
+    b = K[L.B]
+    scale = K[L.SCALE]
+    psi = mats[_PSI]
+    th = ws[_TH:_TH + 6]
+    if r2 <= (1e-9 * scale) ** 2 and b == 0.0:
+        # P' on axis 1 (shoulder singularity): psi from the elbow condition alone, theta1 from
+        # the bend condition u . a = eps3 (sin psi (c1 ax + s1 ay) - eps1 cos psi az)
+        kw = K[L.KW]
+        cphi = 2.0 * kw * kw / (d * d) - 1.0
+        axy = math.hypot(a[0], a[1])
+        t1h = K[L.SIGN] * hint[0] + K[L.DH + 3]
+        a11, a12, m, a21, a22, c = linear_system(d, 0.0, p, a, K)
+        for k in range(_psi_candidates(a11, a12, m, 0.0, 0.0, 0.0, psi)):
+            cp = psi[k, 0]
+            sp = psi[k, 1]
+            if abs(sp) * axy < 1e-12:
+                _arm_from_psi(d, 0.0, cp, sp, pz, math.cos(t1h), math.sin(t1h), K, th)
+                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws,
+                                          mats)
+                continue
+            target = (cphi * K[L.EPS3] + K[L.EPS1] * cp * a[2]) / (sp * axy)
+            if abs(target) > 1.0 + 1e-9:
+                continue
+            base = math.atan2(a[1], a[0])
+            dev = math.acos(max(-1.0, min(1.0, target)))
+            for sg in (1.0, -1.0):
+                t1 = base + sg * dev
+                _arm_from_psi(d, 0.0, cp, sp, pz, math.cos(t1), math.sin(t1), K, th)
+                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws,
+                                          mats)
+        return count
+    s2 = r2 - b * b
+    if s2 < -(1e-9 * scale) ** 2:
+        return count
+    s = math.sqrt(max(s2, 0.0))
+    bp = -K[L.EPS1] * b
+    margin = _filter_margin(K)
+    for sgn in (1.0, -1.0):
+        rho = sgn * s
+        x1 = rho * px + bp * py  # theta1 = atan2(y1, x1)
+        y1 = rho * py - bp * px
+        n1 = math.sqrt(x1 * x1 + y1 * y1)
+        c1, s1 = (x1 / n1, y1 / n1) if n1 > 0.0 else (1.0, 0.0)
+        if filt >= 0 and not _may_match(0, c1, s1, filt >> 2, margin, K):
+            if s == 0.0:
+                break
+            continue  # this shoulder branch clearly has the other arm indicator
+        a11, a12, m, a21, a22, c = linear_system(d, rho, p, a, K)
+        n = _psi_candidates(a11, a12, m, a21, a22, c, psi, 1e-4 if K[L.DEVIATION] == 0.0 else 2e-2)
+        for k in range(n):
+            _arm_from_psi(d, rho, psi[k, 0], psi[k, 1], pz, c1, s1, K, th)
+            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws,
+                                      mats)
+        if s == 0.0:
+            break
+    return count
+
+
+@njit
+def _roots(kind, p, a, K, Bm, bnorm, roots, ws):
+    """Every real root of the residual ``kind`` (:func:`ik7r._kernels.poly.residual_of`) over the
+    search interval of d (into ``roots``), ascending; -1 when it vanishes identically (a
+    continuum). ``ws``: the pose's work array."""
+    lo, hi = _interval(K)
+    nc = Bm.shape[0]
+    blo = ws[_BLO:_BLO + _NBRACKETS]
+    bhi = ws[_BHI:_BHI + _NBRACKETS]
+    bsure = ws[_BSURE:_BSURE + _NBRACKETS]
+    bcoef = ws[_BCOEF:_BCOEF + _NBRACKETS * nc].reshape((_NBRACKETS, nc))
+    nb = isolate(kind, lo, hi, p, a, K, Bm, bnorm, blo, bhi, bsure, bcoef,
+                 ws[_ISO:_ISO + ISOLATE_WORK])
+    if nb < 0:
+        return -1
+    count = 0
+    found = ws[_FOUND:_FOUND + REFINE_GRID + 2]
+    w = ws[_CAST:_CAST + nc]
+    for k in range(nb):
+        if bsure[k] == 1.0:  # exactly one root, and the interpolant on its bracket
+            found[0] = _newton_on_bracket(kind, blo[k], bhi[k], bcoef[k], p, a, K, w)
+            m = 1
+        else:
+            m = refine(kind, blo[k], bhi[k], p, a, K, found)
+        for i in range(m):
+            if count < roots.shape[0]:
+                # u -> d; for a model that deviates from the idealised one a root just outside
+                # the range stays where it is (its arm exists there; theta5 is clamped to 0 or pi)
+                u = found[i]
+                if K[L.DEVIATION] == 0.0:
+                    u = min(1.0, max(_u_fold(K), u))
+                if abs(u) < 1e-12:
+                    continue  # the folded wrist of a 45 deg twist (d at infinity): see solve_all
+                roots[count] = K[L.KW] / u
+                count += 1
+    if K[L.DEVIATION] > 0.0:
+        count = _near_misses(kind, lo, hi, p, a, K, roots, count)
+    return count
+
+
+@njit(allocates=True)
+def _near_misses(kind, lo, hi, p, a, K, roots, count):
+    """Extra candidates for a model that deviates from the idealised one: local minima of
+    |residual| that come close to zero without crossing it. A pair of nearby roots of the
+    idealised residual can vanish (turn complex) under the deviation while the exact model
+    keeps its two solutions there; Newton's polish from the minimum finds them."""
+    m = NEAR_GRID
+    fs = np.empty(m + 1)
+    ms = np.empty(m + 1)
+    for i in range(m + 1):
+        fs[i], ms[i] = residual_of(kind, lo + (hi - lo) * i / m, p, a, K)
+    for i in range(1, m):
+        fa = abs(fs[i])
+        if (fa <= abs(fs[i - 1]) and fa <= abs(fs[i + 1]) and fs[i - 1] * fs[i] > 0.0
+                and fs[i] * fs[i + 1] > 0.0 and fa < NEAR_RATIO * ms[i] and count < roots.shape[0]):
+            u = _golden(kind, lo + (hi - lo) * (i - 1) / m, lo + (hi - lo) * (i + 1) / m, p, a, K)
+            h = 0.5 * (hi - lo) / m
+            for v in (u, u - h, u + h):  # the minimum and starts on either side of it
+                if abs(v) > 1e-12 and count < roots.shape[0]:
+                    roots[count] = K[L.KW] / v
+                    count += 1
+    return count
+
+
+@njit
+def _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt, ws, mats):
+    """Axis 7 on axis 1 (P' on axis 1 for every d): theta1 is free. Take it from the hint
+    (else 0) and solve the remaining 1-D problem with the same certified root isolation."""
+    roots = ws[_ROOTS:_ROOTS + ROOT_CAP]
+    nr = _roots(1, p, a, K, Bm, bnorm, roots, ws)
+    th1 = K[L.SIGN] * hint[0] + K[L.DH + 3] if has_hint else K[L.DH + 3]
+    c1, s1 = math.cos(th1), math.sin(th1)
+    psi = mats[_PSI]
+    th = ws[_TH:_TH + 6]
+    for k in range(max(nr, 0)):
+        d = roots[k]
+        pz = p[2] - (K[L.D7] + d) * a[2]
+        a11, a12, m, a21, a22, c = linear_system(d, 0.0, p, a, K)
+        a21, a22, c = bend_row_on_axis(d, a, K)
+        for k2 in range(_psi_candidates(a11, a12, m, a21, a22, c, psi)):
+            _arm_from_psi(d, 0.0, psi[k2, 0], psi[k2, 1], pz, c1, s1, K, th)
+            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws,
+                                      mats)
+    return count
+
+
+@njit
+def _u_fold(K):
+    """``u = KW / d`` of the fully bent wrist (theta5 = pi): ``cos(2 beta)``."""
+    return 1.0 - 2.0 * K[L.SB] * K[L.SB]
+
+
+@njit
+def _interval(K):
+    """The search interval of ``u = KW / d = cos(phi / 2)``: the whole theta5 range (u = 1 at
+    the straight wrist, cos(2 beta) fully bent), padded by rounding."""
+    lo = _u_fold(K)
+    pad = 1e-9 * (1.0 - lo)
+    if K[L.DEVIATION] > 0.0:
+        # the exact model's solutions near the ends of the range may come from nominal roots
+        # just outside it (kept there, then polished on the exact model)
+        pad = 0.02 * (1.0 - lo)
+    return lo - pad, 1.0 + pad
+
+
+@njit(allocates=True)
+def solve_all(Td, K, Bm, bnorm, hint, has_hint, out):
+    """Every exact solution of the world <- tool target ``Td`` (4, 4) into ``out`` (M, 6).
+
+    Returns the number of solutions (angles wrapped to (-pi, pi], no duplicates). ``hint``
+    (6,) chooses the free joints at singular poses when ``has_hint``.
+    """
+    return solve_into(Td, K, Bm, bnorm, hint, has_hint, out, -1, np.empty(WORK_SIZE))
+
+
+@njit(allocates=True)
+def solve_config(Td, K, Bm, bnorm, hint, has_hint, arm, elbow, wrist, out):
+    """:func:`solve_all` for one configuration: every exact solution that has the indicators
+    (arm, elbow, wrist), and possibly others. The root search is the same; only candidates
+    whose arm and wrist clearly (beyond a margin) have other indicators are not verified,
+    which skips most of the forward kinematics checks."""
+    return solve_into(Td, K, Bm, bnorm, hint, has_hint, out, 4 * arm + 2 * elbow + wrist,
+                      np.empty(WORK_SIZE))
+
+
+@njit
+def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
+    """:func:`solve_all` (``filt`` -1) or :func:`solve_config` (``filt`` = 4 arm + 2 elbow +
+    wrist) with the caller's work array ``ws`` (WORK_SIZE,): every scratch array of the pose,
+    so that a batch allocates once."""
+    mats = ws[_MATS:_MATS + 7 * 16].reshape((7, 4, 4))
+    T07 = mats[_T07]
+    frame07(Td, K, T07)
+    p = ws[_P:_P + 3]
+    a = ws[_A:_A + 3]
+    R07 = mats[_R07, :3, :3]
+    for i in range(3):
+        p[i] = T07[i, 3]
+        a[i] = T07[i, 2]
+        for j in range(3):
+            R07[i, j] = T07[i, j]
+    na = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+    for i in range(3):
+        a[i] /= na
+    roots = ws[_ROOTS:_ROOTS + ROOT_CAP]
+    nr = _roots(0, p, a, K, Bm, bnorm, roots, ws)
+    count = 0
+    if nr < 0:
+        return _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt, ws, mats)
+    last = -1e300
+    folded = False
+    # theta5 grows with d: the roots within FOLD_WINDOW of theta5 = pi lie beyond this d
+    d_fold = d_of_theta5(math.pi - FOLD_WINDOW, K) if _u_fold(K) > 1e-9 else math.inf
+    for k in range(nr):
+        d = roots[k]
+        if d == last:
+            continue  # the same root twice (clamped to an end of the range)
+        last = d
+        if not folded and d > d_fold:
+            # near theta5 = pi the residual is flat: try the folded wrist's own d first
+            folded = True
+            count = _solutions_at(K[L.DMAX], p, a, R07, Td, K, hint, has_hint, out, count, filt,
+                                  ws, mats)
+        count = _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+    if folded:
+        count = _merge_folded(out, count)
+    return count
+
+
+@njit
+def _merge_folded(out, count):
+    """Drop solutions within FOLD_WINDOW (every joint) of an exact fully bent one (theta5 = pi):
+    there the FK is flat in theta5, and what remains are shadows of the one merged solution."""
+    keep = 0
+    for s in range(count):
+        shadow = False
+        if out[s, 4] != math.pi and math.pi - abs(out[s, 4]) < FOLD_WINDOW:
+            for e in range(count):
+                if out[e, 4] == math.pi:
+                    dist = 0.0
+                    for j in range(6):
+                        dist = max(dist, abs(wrap(out[s, j] - out[e, j])))
+                    if dist < FOLD_WINDOW:
+                        shadow = True
+                        break
+        if not shadow:
+            for j in range(6):
+                out[keep, j] = out[s, j]
+            keep += 1
+    return keep

@@ -1,0 +1,164 @@
+"""``ik7r paint raster | path FILE.csv``: off-line painting programs (the paper's Simulation 3).
+
+Writes into ``--out DIR``: ``trajectory.csv`` (``t,x,y,z,q1..q7,dq1..dq7,ddq1..ddq7`` in s, the
+robot's length unit, deg, deg/s, deg/s^2), ``figure12.png`` (joint positions, velocities and
+accelerations), ``path3d.png`` (the path with robot postures), ``animation.gif`` (or ``.html``)
+and ``report.txt``. Exit status 1 when no continuous joint trajectory follows the path (the
+report says which samples and why), 2 on bad input.
+"""
+
+from __future__ import annotations
+
+from ..errors import CliError, NoSolution
+from ._common import load_cli_robot
+
+
+def _common(p) -> None:
+    g = p.add_argument_group("program")
+    g.add_argument("--duration", type=float, default=20.0, metavar="S",
+                   help="time for the whole path in seconds (default 20, the paper's)")
+    g.add_argument("--config", type=int, default=1, metavar="N",
+                   help="configuration 1..8 (the paper's Appendix 3; default 1)")
+    g.add_argument("--keep", choices=("config", "branch"), default="config",
+                   help="when the continuous solution leaves the configuration (theta5 crossing 0): "
+                        "'config' reports a branch change (default), 'branch' stays continuous and "
+                        "reports the crossing")
+    g.add_argument("--tool", nargs=6, type=float, metavar=("X", "Y", "Z", "R", "P", "YAW"),
+                   help="spray-gun TCP in frame 7: position (length unit) and roll-pitch-yaw (deg); "
+                        "default the robot file's tool (none for the paper robot: frame 7)")
+    g.add_argument("--seed", nargs=6, type=float, metavar="Q",
+                   help="joints (deg) the first sample's solution is nearest to")
+    g.add_argument("--ramp", type=float, default=1.0, metavar="S",
+                   help="duration of the speed ramps at start and end (s, default 1)")
+    g.add_argument("--spline", choices=("quintic", "cubic"), default="quintic",
+                   help="joint-space spline (default quintic)")
+    g.add_argument("--tolerance", type=float, default=None, metavar="D",
+                   help="largest deviation of the tool from the path (length unit; default 0.01 mm)")
+    g.add_argument("--rate", type=float, default=100.0, metavar="HZ",
+                   help="rows per second in trajectory.csv (default 100)")
+    g.add_argument("--rescale", action="store_true",
+                   help="stretch the time to respect the joint speed and acceleration limits "
+                        "(default: report any excess)")
+    o = p.add_argument_group("output")
+    o.add_argument("--out", default="ik7r-paint", metavar="DIR", help="output directory (default ik7r-paint)")
+    o.add_argument("--no-plots", action="store_true", help="write no figures (and no animation)")
+    o.add_argument("--no-animation", action="store_true", help="write no animation")
+    o.add_argument("--frames", type=int, default=60, metavar="N",
+                   help="animation frames, spread evenly over the duration (default 60; fewer is faster)")
+    o.add_argument("--animation-format", choices=("gif", "html"), default="gif",
+                   help="animated GIF or a self-contained HTML page (default gif)")
+    o.add_argument("--postures", type=int, default=5, metavar="N", help="robot postures in path3d.png")
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("paint", help="off-line painting program: path -> joint trajectory CSV and plots",
+                       description="Turn a painting path into a smooth joint trajectory (the paper's "
+                                   "Simulation 3): trajectory IK on one solution branch, joint-space "
+                                   "spline, limit and deviation checks, CSV, figures, animation.")
+    kinds = p.add_subparsers(dest="paint_kind", metavar="PATH", parser_class=type(p))
+    r = kinds.add_parser("raster", help="a raster over a rectangle (defaults: the paper's scenario)",
+                         description="A raster (boustrophedon) over a rectangle in the x-y plane of a "
+                                     "workpiece frame, constant gun orientation (x along the "
+                                     "workpiece's x, y and z opposite). Defaults: the paper's "
+                                     "Simulation 3 on the paper robot.")
+    r.add_argument("--origin", nargs=3, type=float, default=None, metavar=("X", "Y", "Z"),
+                   help="centre of the rectangle in the base frame (length unit; default 1100 0 200)")
+    r.add_argument("--rpy", nargs=3, type=float, default=(0.0, 0.0, 0.0), metavar=("R", "P", "Y"),
+                   help="workpiece frame orientation in the base frame (deg; default 0 0 0)")
+    r.add_argument("--size", nargs=2, type=float, default=None, metavar=("W", "H"),
+                   help="rectangle size along the workpiece x (passes) and y (default 600 800)")
+    r.add_argument("--spacing", type=float, default=None, metavar="D",
+                   help="largest distance between passes (default 100)")
+    r.add_argument("--margin", type=float, default=0.0, metavar="D",
+                   help="overrun of each pass beyond the rectangle (default 0)")
+    r.add_argument("--standoff", type=float, default=0.0, metavar="D",
+                   help="gun tip distance above the surface (default 0)")
+    r.add_argument("--step", type=float, default=None, metavar="D",
+                   help="largest distance between path samples (default 5)")
+    _common(r)
+    r.set_defaults(run=run)
+    f = kinds.add_parser("path", help="a path loaded from CSV",
+                         description="A path from a CSV file with a header: x,y,z (length unit) and "
+                                     "optionally qw,qx,qy,qz or roll,pitch,yaw (deg), in a workpiece "
+                                     "frame placed by --frame. Without orientation columns the gun "
+                                     "points along -z of the workpiece (x along its x).")
+    f.add_argument("file", metavar="FILE.csv", help="the path")
+    f.add_argument("--frame", nargs=6, type=float, default=None, metavar=("X", "Y", "Z", "R", "P", "YAW"),
+                   help="workpiece frame in the base frame: position (length unit), rpy (deg); "
+                        "default the base frame")
+    f.add_argument("--rotation-radius", type=float, default=100.0, metavar="D",
+                   help="length per radian of orientation change in the path timing (default 100)")
+    _common(f)
+    f.set_defaults(run=run)
+    p.set_defaults(run=_no_kind)
+
+
+def _no_kind(args) -> int:
+    raise CliError("paint: give the path: 'ik7r paint raster [...]' or 'ik7r paint path FILE.csv [...]'")
+
+
+def _pose(vals):
+    import numpy as np
+
+    from ...geometry.rotations import rpy_to_matrix, transform
+
+    return transform(rpy_to_matrix(np.radians(vals[3:])), vals[:3])
+
+
+def run(args) -> int:
+    from pathlib import Path as FilePath
+
+    import numpy as np
+
+    from ... import painting as P
+
+    robot = load_cli_robot(args)
+    if not 1 <= args.config <= 8:
+        raise CliError(f"--config must be 1..8; got {args.config}")
+    if args.frames < 2:
+        raise CliError(f"--frames must be at least 2; got {args.frames}")
+    try:
+        if args.paint_kind == "raster":
+            path = P.raster_path(
+                P.workpiece_frame(P.DEFAULT_ORIGIN if args.origin is None else args.origin,
+                                  np.radians(args.rpy)),
+                size=P.DEFAULT_SIZE if args.size is None else args.size,
+                spacing=P.DEFAULT_SPACING if args.spacing is None else args.spacing,
+                margin=args.margin, standoff=args.standoff,
+                step=P.DEFAULT_STEP if args.step is None else args.step)
+        else:
+            frame = None if args.frame is None else _pose(args.frame)
+            path = P.load_path_csv(args.file, frame, rotation_radius=args.rotation_radius)
+    except FileNotFoundError as exc:
+        raise CliError(str(exc)) from exc
+    except ValueError as exc:
+        raise CliError(str(exc)) from exc
+    tool = None if args.tool is None else _pose(args.tool)
+    seed = None if args.seed is None else np.radians(args.seed)
+    out = FilePath(args.out)
+    try:
+        result = P.paint_path(robot, path, duration=args.duration, config=args.config, seed=seed, tool=tool,
+                              keep=args.keep, ramp=args.ramp, kind=args.spline, tolerance=args.tolerance,
+                              rate=args.rate, rescale=args.rescale, progress=True)
+    except P.PathNotFeasible as exc:
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "report.txt").write_text(f"path: {path.name}; {len(path)} samples\n{exc}\n")
+        raise NoSolution(str(exc)) from exc
+    except ValueError as exc:
+        raise CliError(str(exc)) from exc
+    out.mkdir(parents=True, exist_ok=True)
+    written = [P.write_trajectory_csv(result.robot, result.trajectory, out / "trajectory.csv")]
+    report = result.report()
+    (out / "report.txt").write_text(report + "\n")
+    written.append(out / "report.txt")
+    if not args.no_plots:
+        written.append(P.plot_joint_trajectory(result.trajectory, out / "figure12.png", robot=result.robot))
+        written.append(P.plot_path_3d(result.robot, result.trajectory, out / "path3d.png",
+                                      postures=max(1, args.postures)))
+        if not args.no_animation:
+            name = "animation.gif" if args.animation_format == "gif" else "animation.html"
+            written.append(P.animate_painting(result.robot, result.trajectory, out / name,
+                                              frames=args.frames))
+    print(report)
+    print("wrote " + ", ".join(str(w) for w in written))
+    return 0

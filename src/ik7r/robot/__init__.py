@@ -1,0 +1,76 @@
+"""The robot: the immutable model, the family it belongs to, robot files (TOML) and URDF.
+
+============ ===================================================================
+module       what it holds
+============ ===================================================================
+model        :class:`Robot`, the frozen dataclass every solver takes
+family       what the 7R coupled-wrist family is; its nominal (idealised) parameters
+files        TOML robot files, the built-in robots (``data/``), unit conversion
+urdf         URDF import (``<mimic>`` joints) and export
+============ ===================================================================
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from .._lazy import lazy_exports
+
+_EXPORTS = {
+    "Robot": "model",
+    "load_robot": "files",
+    "robot_from_toml": "files",
+    "robot_to_toml": "files",
+    "robot_in_unit": "files",
+    "BUILTIN_ROBOTS": "files",
+    "robot_from_urdf": "urdf",
+    "robot_from_urdf_string": "urdf",
+    "robot_to_urdf": "urdf",
+    "UrdfChain": "urdf",
+    "read_chain": "urdf",
+    "PARALLEL_TOL": "urdf",
+    "FK_CHECK_TOL": "urdf",
+    "family_of": "family",
+    "Family": "family",
+    "ANGLE_TOL": "family",
+    "LENGTH_TOL": "family",
+    "MAX_BETA": "family",
+    "DEFAULT_JOINT_NAMES": "model",
+}
+
+if TYPE_CHECKING:  # the names, for type checkers and IDEs
+    from .family import ANGLE_TOL, LENGTH_TOL, MAX_BETA, Family, family_of
+    from .files import BUILTIN_ROBOTS, load_robot, robot_from_toml, robot_in_unit, robot_to_toml
+    from .model import DEFAULT_JOINT_NAMES, Robot
+    from .urdf import (
+        FK_CHECK_TOL,
+        PARALLEL_TOL,
+        UrdfChain,
+        read_chain,
+        robot_from_urdf,
+        robot_from_urdf_string,
+        robot_to_urdf,
+    )
+
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, ('model', 'family', 'files', 'urdf'))
+__all__ = [
+    "ANGLE_TOL",
+    "BUILTIN_ROBOTS",
+    "DEFAULT_JOINT_NAMES",
+    "FK_CHECK_TOL",
+    "Family",
+    "LENGTH_TOL",
+    "MAX_BETA",
+    "PARALLEL_TOL",
+    "Robot",
+    "UrdfChain",
+    "family_of",
+    "load_robot",
+    "read_chain",
+    "robot_from_toml",
+    "robot_from_urdf",
+    "robot_from_urdf_string",
+    "robot_in_unit",
+    "robot_to_toml",
+    "robot_to_urdf",
+]

@@ -1,0 +1,254 @@
+"""Robot files: the TOML format, the built-in robots, and :func:`load_robot`.
+
+The TOML format (angles in degrees, lengths in ``unit``)::
+
+    name = "paper"
+    unit = "mm"                       # length unit of dh, base and tool
+    description = "..."               # optional
+
+    [dh]                              # Craig's modified DH, one entry per joint 1..7
+    a            = [0, 0, 1000, 0, 0, 0, 0]       # a_{i-1}
+    alpha        = [0, 90, 0, 90, -35, 70, -35]   # alpha_{i-1}, deg
+    d            = [0, 0, 0, 900, 80, 80, 100]    # d_i
+    theta_offset = [0, 0, 0, 0, 0, 0, 0]          # optional, deg: theta_i = sign_i q_i + offset_i
+    sign         = [1, 1, 1, 1, 1, 1, 1]          # optional
+
+    [coupling]                        # optional: q6 = multiplier * q5 + offset (deg)
+    multiplier = -1.0
+    offset = 0.0
+
+    [limits]                          # independent joints q1 q2 q3 q4 q5 q7
+    lower = [-70, -80, -70, -360, -180, -360]     # deg
+    upper = [70, 135, 70, 360, 180, 360]
+    velocity = [...]                  # optional, deg/s
+    acceleration = [...]              # optional, deg/s^2
+
+    [base]                            # optional: world <- frame 0
+    xyz = [0, 0, 0]
+    rpy = [0, 0, 0]                   # deg, URDF convention (fixed axes X-Y-Z)
+
+    [tool]                            # optional: frame 7 <- tool (TCP)
+    xyz = [0, 0, 0]
+    rpy = [0, 0, 0]
+
+    joint_names = ["joint_1", ..., "joint_7"]   # optional
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import FamilyError, RobotFileError
+from ..geometry.rotations import matrix_to_rpy, rpy_to_matrix, transform
+from ..units import unit_scale
+from .model import DEFAULT_JOINT_NAMES, Robot
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+__all__ = ["load_robot", "robot_from_toml", "robot_to_toml", "robot_in_unit", "BUILTIN_ROBOTS"]
+
+#: Names of the robots shipped with ik7r (``ik7r.load_robot(name)``).
+BUILTIN_ROBOTS = {"paper": "paper.toml", "irb5400": "irb5400.toml"}
+
+
+
+def load_robot(path=None, *, base: str | None = None, tip: str | None = None) -> Robot:
+    """Load a robot.
+
+    Parameters
+    ----------
+    path : str or Path, optional
+        ``None`` for the paper's robot; a built-in name (``"paper"``, ``"irb5400"``); or a
+        ``.toml`` or ``.urdf`` file.
+    base, tip : str, optional
+        URDF only: the links the chain runs from and to (default: the root, and the deepest
+        leaf).
+
+    Raises
+    ------
+    FileNotFoundError
+        The file does not exist.
+    RobotFileError
+        The file is malformed (a ``ValueError`` naming the file and the problem).
+    FamilyError
+        The chain is not of the family (a ``ValueError`` naming the joint).
+    """
+    if path is None:
+        path = "paper"
+    if isinstance(path, str) and path in BUILTIN_ROBOTS:
+        text = resources.files("ik7r.robot").joinpath("data", BUILTIN_ROBOTS[path]).read_text()
+        return robot_from_toml(text, source=f"built-in robot {path!r}")
+    p = Path(path)
+    if p.suffix.lower() == ".urdf":
+        from .urdf import robot_from_urdf
+
+        if not p.is_file():
+            raise FileNotFoundError(f"no such robot file: {p}")
+        return robot_from_urdf(p, base=base, tip=tip)
+    if base is not None or tip is not None:
+        raise ValueError("base= and tip= apply to URDF files only")
+    if p.suffix.lower() != ".toml":
+        if not p.exists():
+            raise FileNotFoundError(
+                f"no such robot file or built-in robot: {path} (built-in: {', '.join(BUILTIN_ROBOTS)})")
+        raise RobotFileError(f"{p}: unknown robot file type {p.suffix!r}; expected .toml or .urdf")
+    if not p.is_file():
+        raise FileNotFoundError(f"no such robot file: {p}")
+    return robot_from_toml(p.read_text(), source=str(p))
+
+
+def _numbers(table: dict, key: str, n: int, where: str, required: bool = True):
+    if key not in table:
+        if required:
+            raise RobotFileError(f"{where}: missing '{key}' ({n} numbers)")
+        return None
+    val = table[key]
+    if (not isinstance(val, list) or len(val) != n
+            or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in val)):
+        raise RobotFileError(f"{where}: '{key}' must be a list of {n} numbers; got {val!r}")
+    arr = np.array(val, dtype=float)
+    if not np.all(np.isfinite(arr)):
+        raise RobotFileError(f"{where}: '{key}' must be finite; got {val!r}")
+    return arr
+
+
+def _pose(table: dict, where: str) -> np.ndarray:
+    unknown = set(table) - {"xyz", "rpy"}
+    if unknown:
+        raise RobotFileError(f"{where}: unknown keys {sorted(unknown)}; expected xyz and rpy")
+    xyz = _numbers(table, "xyz", 3, where, required=False)
+    rpy = _numbers(table, "rpy", 3, where, required=False)
+    R = rpy_to_matrix(np.radians(rpy)) if rpy is not None else np.eye(3)
+    return transform(R, xyz if xyz is not None else np.zeros(3))
+
+
+def robot_from_toml(text: str, source: str = "<string>") -> Robot:
+    """Build a :class:`Robot` from the text of a TOML robot file (see the module docstring)."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise RobotFileError(f"{source}: not valid TOML: {exc}") from exc
+    known = {"name", "unit", "description", "dh", "coupling", "limits", "base", "tool", "joint_names"}
+    unknown = set(data) - known
+    if unknown:
+        raise RobotFileError(f"{source}: unknown keys {sorted(unknown)}; expected {sorted(known)}")
+    for key in ("name", "unit"):
+        if not isinstance(data.get(key), str):
+            raise RobotFileError(f"{source}: '{key}' must be a string")
+    for key in ("dh", "limits"):
+        if not isinstance(data.get(key), dict):
+            raise RobotFileError(f"{source}: missing table [{key}]")
+    dh_t = data["dh"]
+    where = f"{source} [dh]"
+    a = _numbers(dh_t, "a", 7, where)
+    alpha = _numbers(dh_t, "alpha", 7, where)
+    d = _numbers(dh_t, "d", 7, where)
+    off = _numbers(dh_t, "theta_offset", 7, where, required=False)
+    sign = _numbers(dh_t, "sign", 7, where, required=False)
+    lim = data["limits"]
+    where = f"{source} [limits]"
+    lower = _numbers(lim, "lower", 6, where)
+    upper = _numbers(lim, "upper", 6, where)
+    vel = _numbers(lim, "velocity", 6, where, required=False)
+    acc = _numbers(lim, "acceleration", 6, where, required=False)
+    coup = data.get("coupling", {})
+    mult = coup.get("multiplier", -1.0)
+    coff = coup.get("offset", 0.0)
+    if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in (mult, coff)):
+        raise RobotFileError(f"{source} [coupling]: multiplier and offset must be numbers")
+    names = data.get("joint_names", list(DEFAULT_JOINT_NAMES))
+    if not (isinstance(names, list) and len(names) == 7 and all(isinstance(n, str) for n in names)):
+        raise RobotFileError(f"{source}: 'joint_names' must be a list of 7 strings")
+    dh = np.stack([a, np.radians(alpha), d, np.radians(off) if off is not None else np.zeros(7)], 1)
+    try:
+        return Robot(
+            name=data["name"], dh=dh, unit=data["unit"], lower=np.radians(lower),
+            upper=np.radians(upper),
+            velocity=None if vel is None else np.radians(vel),
+            acceleration=None if acc is None else np.radians(acc),
+            coupling=(float(mult), math.radians(coff)),
+            joint_sign=sign if sign is not None else np.ones(7),
+            base=_pose(data.get("base", {}), f"{source} [base]"),
+            tool=_pose(data.get("tool", {}), f"{source} [tool]"),
+            joint_names=tuple(names), description=str(data.get("description", "")),
+        )
+    except FamilyError as exc:
+        raise FamilyError(f"{source}: {exc}") from exc
+    except ValueError as exc:
+        raise RobotFileError(f"{source}: {exc}") from exc
+
+
+def _number(v) -> str:
+    v = float(v)
+    return str(int(v)) if v.is_integer() and abs(v) < 1e15 else repr(v)
+
+
+def _fmt(values) -> str:
+    return "[" + ", ".join(_number(v) for v in values) + "]"
+
+
+def robot_to_toml(robot: Robot) -> str:
+    """The TOML text of ``robot`` (round-trips through :func:`robot_from_toml` exactly)."""
+    def esc(s: str) -> str:
+        return s.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n")
+
+    lines = [f'name = "{esc(robot.name)}"', f'unit = "{esc(robot.unit)}"']
+    if robot.description:
+        lines.append(f'description = "{esc(robot.description)}"')
+    lines.append("joint_names = [" + ", ".join(f'"{esc(n)}"' for n in robot.joint_names) + "]")
+    lines += ["", "[dh]", f"a = {_fmt(robot.dh[:, 0])}", f"alpha = {_fmt(np.degrees(robot.dh[:, 1]))}",
+              f"d = {_fmt(robot.dh[:, 2])}", f"theta_offset = {_fmt(np.degrees(robot.dh[:, 3]))}",
+              f"sign = {_fmt(robot.joint_sign)}"]
+    lines += ["", "[coupling]", f"multiplier = {float(robot.coupling[0])!r}",
+              f"offset = {math.degrees(robot.coupling[1])!r}"]
+    lines += ["", "[limits]", f"lower = {_fmt(np.degrees(robot.lower))}",
+              f"upper = {_fmt(np.degrees(robot.upper))}"]
+    if robot.velocity is not None:
+        lines.append(f"velocity = {_fmt(np.degrees(robot.velocity))}")
+    if robot.acceleration is not None:
+        lines.append(f"acceleration = {_fmt(np.degrees(robot.acceleration))}")
+    for key in ("base", "tool"):
+        T = getattr(robot, key)
+        if not np.array_equal(T, np.eye(4)):
+            lines += ["", f"[{key}]", f"xyz = {_fmt(T[:3, 3])}",
+                      f"rpy = {_fmt(np.degrees(matrix_to_rpy(T[:3, :3])))}"]
+    return "\n".join(lines) + "\n"
+
+
+def robot_in_unit(robot: Robot, unit: str) -> Robot:
+    """A copy of ``robot`` with its lengths (DH a and d, base and tool translations) in ``unit``.
+
+    Parameters
+    ----------
+    robot : Robot
+    unit : str
+        One of :data:`ik7r.units.METRES_PER_UNIT` (``"m"``, ``"cm"``, ``"mm"``, ``"in"``);
+        ``robot.unit`` must be too.
+
+    Returns
+    -------
+    Robot
+        Same joints and limits; its forward kinematics is the original one with positions scaled.
+    """
+    k = unit_scale(robot.unit, unit)
+    if unit == robot.unit:
+        return robot
+
+    def scaled(x):  # x * k without the float noise of the product (1.4083 * 1000 = 1408.3)
+        y = np.asarray(x, dtype=float) * k
+        tidy = np.array([float(f"{v:.12g}") for v in y.reshape(-1)]).reshape(y.shape)
+        return np.where(np.abs(tidy - y) <= 4 * np.finfo(float).eps * np.abs(y), tidy, y)
+
+    dh = np.array(robot.dh)
+    dh[:, 0], dh[:, 2] = scaled(dh[:, 0]), scaled(dh[:, 2])
+    base, tool = np.array(robot.base), np.array(robot.tool)
+    base[:3, 3], tool[:3, 3] = scaled(base[:3, 3]), scaled(tool[:3, 3])
+    return robot.replace(dh=dh, base=base, tool=tool, unit=unit)

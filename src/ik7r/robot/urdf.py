@@ -1,0 +1,646 @@
+"""URDF robots: read a serial chain into the family's modified DH parameters, and write one.
+
+Reading (:func:`robot_from_urdf`) works on the axis lines, not on the URDF's joint frames, so
+any placement of the joint frames (DH-style z axes, ABB-style x axes, fixed joints anywhere)
+gives the same robot:
+
+1. Take the serial chain from the ``base`` link (default: the root) to the ``tip`` link
+   (default: the deepest leaf). Its revolute and continuous joints are the seven joints of the
+   robot; exactly one of them, the sixth, must be a ``<mimic>`` of the fifth. Fixed joints are
+   folded in, prismatic, planar and floating joints are out of the family.
+2. Evaluate the chain in its zero posture (independent joints 0, the mimic joint at its
+   offset) and find every joint axis as a line (point, direction) in the ``base`` link frame.
+3. Build Craig's modified DH frames on these lines: ``z_i`` along axis i (``joint_sign`` -1
+   where ``z_i`` points against the URDF axis), ``x_i`` along the common normal of axes i and
+   i + 1, frame 0 on axis 1 nearest the base link origin, frame 7 on axis 7 nearest the tip
+   link origin. Whatever is left at the ends becomes the robot's ``base`` and ``tool``.
+4. Check the table against the family (:func:`ik7r.robot.family.family_of`) and check the result by
+   comparing its forward kinematics with the URDF's own chain of transforms.
+
+Lengths stay in metres (``unit = "m"``).
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import FamilyError, RobotFileError
+from ..geometry.rotations import dh_transform, invert, matrix_to_rpy, rpy_to_matrix, transform
+from ..units import METRES_PER_UNIT
+from .family import ANGLE_TOL
+from .model import Robot
+
+__all__ = [
+    "robot_from_urdf",
+    "robot_from_urdf_string",
+    "robot_to_urdf",
+    "UrdfChain",
+    "read_chain",
+    "PARALLEL_TOL",
+    "FK_CHECK_TOL",
+]
+
+#: Axes closer to parallel than this (rad) are taken as exactly parallel. Treating them so
+#: moves the chain by at most this times its reach (3e-13 m on a 3 m robot).
+PARALLEL_TOL = 1e-13
+#: A common normal farther than this many times the chain's size from the joints means two
+#: axes are nearly, but not exactly, parallel: the chain is rejected (it cannot be written in
+#: modified DH parameters without losing precision).
+FAR_NORMAL = 10.0
+#: After conversion the DH model's forward kinematics must match the URDF chain within this
+#: (rotation entries; positions relative to the chain's size plus 1 m), checked at load time.
+FK_CHECK_TOL = 1e-12
+
+_MOVING = ("revolute", "continuous")
+_KNOWN_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+
+
+# ---------------------------------------------------------------------------- parsing
+@dataclass(frozen=True)
+class UrdfJoint:
+    """One ``<joint>`` of a URDF (lengths in metres, angles in rad)."""
+
+    name: str
+    type: str
+    parent: str
+    child: str
+    origin: np.ndarray  # (4, 4) parent link <- joint frame at zero joint value
+    axis: np.ndarray  # (3,) unit vector in the joint frame
+    lower: float | None = None
+    upper: float | None = None
+    velocity: float | None = None
+    mimic: tuple[str, float, float] | None = None  # (joint, multiplier, offset)
+
+
+@dataclass(frozen=True)
+class UrdfChain:
+    """The serial chain of a URDF from ``base`` to ``tip`` (see :func:`read_chain`)."""
+
+    name: str
+    base: str
+    tip: str
+    joints: tuple[UrdfJoint, ...]  # every joint from base to tip, fixed ones included
+    source: str = "<string>"
+    moving: tuple[int, ...] = field(default=())  # indices into joints of the moving joints
+
+    def transforms(self, q_moving) -> np.ndarray:
+        """Base link <- tip link transform for values of the moving joints.
+
+        Parameters
+        ----------
+        q_moving : array_like, shape (..., n_moving)
+            Values of the moving joints in chain order (rad); mimic joints are given too.
+
+        Returns
+        -------
+        T_base_tip : ndarray, shape (..., 4, 4)
+        """
+        q = np.asarray(q_moving, dtype=float)
+        T = np.broadcast_to(np.eye(4), q.shape[:-1] + (4, 4)).copy()
+        k = 0
+        for j in self.joints:
+            T = T @ j.origin
+            if j.type in _MOVING:
+                T = T @ _axis_rotation(j.axis, q[..., k])
+                k += 1
+        return T
+
+
+def _axis_rotation(axis: np.ndarray, angle) -> np.ndarray:
+    """Rotation about the unit ``axis`` by ``angle`` (...,) as (..., 4, 4) (Rodrigues)."""
+    angle = np.asarray(angle, dtype=float)
+    x, y, z = axis
+    K = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    s, c = np.sin(angle)[..., None, None], np.cos(angle)[..., None, None]
+    R = np.eye(3) + s * K + (1.0 - c) * (K @ K)
+    T = np.zeros(angle.shape + (4, 4))
+    T[..., :3, :3] = R
+    T[..., 3, 3] = 1.0
+    return T
+
+
+def _floats(text: str | None, n: int, what: str, default) -> np.ndarray:
+    if text is None:
+        return np.array(default, dtype=float)
+    parts = text.split()
+    try:
+        vals = np.array([float(p) for p in parts])
+    except ValueError:
+        vals = np.array([])
+    if len(parts) != n or vals.size != n or not np.all(np.isfinite(vals)):
+        raise RobotFileError(f"{what} must be {n} finite numbers; got {text!r}")
+    return vals
+
+
+def _float_attr(el: ET.Element, key: str, what: str, default: float | None) -> float | None:
+    val = el.get(key)
+    if val is None:
+        return default
+    try:
+        x = float(val)
+    except ValueError:
+        x = math.nan
+    if not math.isfinite(x):
+        raise RobotFileError(f"{what}: '{key}' must be a finite number; got {val!r}")
+    return x
+
+
+def _parse_joint(el: ET.Element, source: str) -> UrdfJoint:
+    name = el.get("name")
+    if not name:
+        raise RobotFileError(f"{source}: a <joint> has no name")
+    where = f"{source}: joint {name!r}"
+    jtype = el.get("type")
+    if jtype not in _KNOWN_TYPES:
+        raise RobotFileError(f"{where}: unknown type {jtype!r}; expected one of {', '.join(_KNOWN_TYPES)}")
+    links = []
+    for tag in ("parent", "child"):
+        sub = el.find(tag)
+        if sub is None or not sub.get("link"):
+            raise RobotFileError(f"{where}: missing <{tag} link=...>")
+        links.append(sub.get("link"))
+    org = el.find("origin")
+    xyz = _floats(None if org is None else org.get("xyz"), 3, f"{where}: <origin xyz>", (0, 0, 0))
+    rpy = _floats(None if org is None else org.get("rpy"), 3, f"{where}: <origin rpy>", (0, 0, 0))
+    origin = transform(rpy_to_matrix(rpy), xyz)
+    ax = el.find("axis")
+    axis = _floats(None if ax is None else ax.get("xyz"), 3, f"{where}: <axis xyz>", (1, 0, 0))
+    norm = float(np.linalg.norm(axis))
+    if jtype != "fixed" and norm < 1e-9:
+        raise RobotFileError(f"{where}: the axis must not be zero; got {axis.tolist()}")
+    axis = axis / norm if norm > 0 else np.array([1.0, 0.0, 0.0])
+    lower = upper = velocity = None
+    lim = el.find("limit")
+    if jtype == "revolute" and lim is None:
+        raise RobotFileError(f"{where}: a revolute joint needs <limit lower=... upper=... velocity=...>")
+    if lim is not None:
+        velocity = _float_attr(lim, "velocity", f"{where} <limit>", None)
+        if jtype == "revolute":
+            lower = _float_attr(lim, "lower", f"{where} <limit>", 0.0)
+            upper = _float_attr(lim, "upper", f"{where} <limit>", 0.0)
+            if lower > upper:
+                raise RobotFileError(f"{where}: lower limit {lower:g} exceeds upper limit {upper:g}")
+    mimic = None
+    mel = el.find("mimic")
+    if mel is not None and jtype != "fixed":
+        if not mel.get("joint"):
+            raise RobotFileError(f"{where}: <mimic> needs joint=...")
+        mimic = (mel.get("joint"),
+                 _float_attr(mel, "multiplier", f"{where} <mimic>", 1.0),
+                 _float_attr(mel, "offset", f"{where} <mimic>", 0.0))
+    return UrdfJoint(name=name, type=jtype, parent=links[0], child=links[1], origin=origin, axis=axis,
+                     lower=lower, upper=upper, velocity=velocity, mimic=mimic)
+
+
+def _path_to_root(link: str, parent_joint: dict[str, UrdfJoint]) -> list[UrdfJoint]:
+    path = []
+    seen = {link}
+    while link in parent_joint:
+        j = parent_joint[link]
+        path.append(j)
+        link = j.parent
+        if link in seen:
+            raise RobotFileError(f"the joints form a loop through link {link!r}")
+        seen.add(link)
+    return path[::-1]
+
+
+def read_chain(text: str | bytes, *, base: str | None = None, tip: str | None = None,
+               source: str = "<string>") -> UrdfChain:
+    """Parse URDF text and take its serial chain from ``base`` to ``tip``.
+
+    Parameters
+    ----------
+    text : str or bytes
+        The URDF (XML).
+    base, tip : str, optional
+        Link names. Default: the root link, and the deepest leaf (most joints from the root;
+        the first in the file on a tie).
+    source : str
+        Name of the file, for messages.
+
+    Raises
+    ------
+    RobotFileError
+        Malformed XML, or links and joints that do not form a tree, or unknown links.
+    """
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as exc:
+        raise RobotFileError(f"{source}: not valid XML: {exc}") from exc
+    if root.tag != "robot":
+        raise RobotFileError(f"{source}: the root element must be <robot>; got <{root.tag}>")
+    links = [el.get("name") for el in root.findall("link")]
+    if any(not n for n in links):
+        raise RobotFileError(f"{source}: a <link> has no name")
+    link_set = set(links)
+    if len(link_set) != len(links):
+        dup = sorted({n for n in links if links.count(n) > 1})
+        raise RobotFileError(f"{source}: duplicate link names {dup}")
+    joints = [_parse_joint(el, source) for el in root.findall("joint")]
+    names = [j.name for j in joints]
+    if len(set(names)) != len(names):
+        dup = sorted({n for n in names if names.count(n) > 1})
+        raise RobotFileError(f"{source}: duplicate joint names {dup}")
+    parent_joint: dict[str, UrdfJoint] = {}
+    for j in joints:
+        for ln in (j.parent, j.child):
+            if ln not in link_set:
+                raise RobotFileError(
+                    f"{source}: joint {j.name!r} refers to link {ln!r}, which is not defined")
+        if j.child in parent_joint:
+            raise RobotFileError(f"{source}: link {j.child!r} is the child of two joints "
+                                 f"({parent_joint[j.child].name!r} and {j.name!r}); a URDF must be a tree")
+        parent_joint[j.child] = j
+    if not links:
+        raise RobotFileError(f"{source}: no <link> elements")
+    roots = [n for n in links if n not in parent_joint]
+    if len(roots) != 1:
+        raise RobotFileError(f"{source}: a URDF must have exactly one root link; got {roots}")
+    try:
+        paths = {n: _path_to_root(n, parent_joint) for n in links}
+    except RobotFileError as exc:
+        raise RobotFileError(f"{source}: {exc}") from exc
+    for key, val in (("base", base), ("tip", tip)):
+        if val is not None and val not in link_set:
+            raise RobotFileError(f"{source}: {key} link {val!r} is not defined; links are {links}")
+    base = roots[0] if base is None else base
+    if tip is None:
+        parents = {j.parent for j in joints}
+        leaves = [n for n in links if n not in parents and n != base
+                  and base in [roots[0]] + [j.child for j in paths[n]]]
+        if not leaves:
+            raise RobotFileError(f"{source}: no link below base link {base!r}")
+        tip = max(leaves, key=lambda n: len(paths[n]))  # first of the deepest
+    full = paths[tip]
+    start = next((k for k, j in enumerate(full) if j.parent == base), None)
+    if start is None:
+        raise RobotFileError(f"{source}: tip link {tip!r} is not below base link {base!r}")
+    chain = tuple(full[start:])
+    moving = tuple(k for k, j in enumerate(chain) if j.type in _MOVING)
+    return UrdfChain(name=root.get("name") or "robot", base=base, tip=tip, joints=chain, source=source,
+                     moving=moving)
+
+
+# ---------------------------------------------------------------------------- conversion
+def _check_chain_family(chain: UrdfChain) -> tuple[list[UrdfJoint], float, float]:
+    """Joint types, count and the mimic coupling; returns the 7 moving joints and (m, c)."""
+    src = chain.source
+    for j in chain.joints:
+        if j.type in ("prismatic", "planar", "floating"):
+            raise FamilyError(f"{src}: joint {j.name!r} is {j.type}; ik7r's family has revolute joints only")
+    moving = [chain.joints[k] for k in chain.moving]
+    names = [j.name for j in moving]
+    mimics = [j for j in moving if j.mimic is not None]
+    if len(moving) != 7:
+        raise FamilyError(
+            f"{src}: the chain {chain.base} -> {chain.tip} has {len(moving)} revolute joints {names}; "
+            "ik7r's family has 7 (6 independent joints and joint 6 mimicking joint 5); "
+            "choose the chain with base= and tip=")
+    if not mimics:
+        raise FamilyError(f"{src}: no <mimic> joint in the chain {names}; the sixth joint "
+                          f"({names[5]!r}) must mimic the fifth ({names[4]!r})")
+    for j in mimics:
+        if j is not moving[5]:
+            raise FamilyError(f"{src}: joint {j.name!r} is a mimic joint, but only the sixth revolute joint "
+                              f"({names[5]!r}) may be coupled (to the fifth, {names[4]!r})")
+    target, m, c = moving[5].mimic
+    if target != names[4]:
+        raise FamilyError(f"{src}: joint {names[5]!r} mimics {target!r}; it must mimic the fifth revolute "
+                          f"joint of the chain, {names[4]!r}")
+    return moving, m, c
+
+
+def _foot(p1, u1, p2, u2):
+    """Parameters (t1, t2) of the feet of the common normal of two non-parallel lines."""
+    w = p1 - p2
+    b = float(u1 @ u2)
+    d, e = float(u1 @ w), float(u2 @ w)
+    den = 1.0 - b * b
+    return (b * e - d) / den, (e - b * d) / den
+
+
+def _unit(v):
+    return v / np.linalg.norm(v)
+
+
+def _frame(x, z, o) -> np.ndarray:
+    return transform(np.column_stack([x, np.cross(z, x), z]), o)
+
+
+def _perp_unit(v, z, fallback):
+    """Unit part of ``v`` perpendicular to unit ``z`` (``fallback`` when ``v`` is along ``z``)."""
+    for w in (v, fallback):
+        p = w - (w @ z) * z
+        n = np.linalg.norm(p)
+        if n > 1e-6:
+            return p / n
+    raise AssertionError("no direction perpendicular to z")  # pragma: no cover
+
+
+def _tidy(v: float, tol: float) -> float:
+    """``v`` rounded to 12 significant digits (or to 0) when that moves it by at most ``tol``
+    (float noise: 1.1999999999999997 -> 1.2, 7e-17 -> 0), else ``v``."""
+    if abs(v) <= tol:
+        return 0.0
+    c = float(f"{v:.12g}")
+    return c if abs(c - v) <= tol else v
+
+
+def _sign(x: float, default: float) -> float:
+    return default if x == 0.0 else math.copysign(1.0, x)
+
+
+def _preferred_sign(axis: np.ndarray) -> float:
+    """+1, or -1 for an axis written pointing the negative way (its largest component negative)."""
+    k = int(np.argmax(np.abs(axis)))
+    return -1.0 if axis[k] < 0 else 1.0
+
+
+def _forearm_sign(points: np.ndarray, u: np.ndarray, default: float) -> float:
+    """+1 when the wrist (the normal of axes 4-5) lies ahead of the elbow (the normal of axes
+    3-4) along the URDF direction of axis 4, else -1 (``default`` when undecided)."""
+    t = []
+    for k in (2, 4):
+        if np.linalg.norm(np.cross(u[3], u[k])) <= PARALLEL_TOL:
+            return default
+        t.append(_foot(points[3], u[3], points[k], u[k])[0])
+    return _sign(t[1] - t[0], default)
+
+
+def _joint_signs(points: np.ndarray, u: np.ndarray, pref: np.ndarray, m: float) -> np.ndarray:
+    """Directions of the DH z axes: ``z_i = s_i u_i``.
+
+    ``s1`` and ``s2`` follow the URDF axes (-1 for an axis written pointing the negative way),
+    ``s4`` makes ``z4`` point from the elbow to the wrist (forearm ``d4 > 0`` as in the paper);
+    the family fixes the others: axis 3 parallel (not antiparallel) to axis 2, acute angles
+    between axes 4-5 and 6-7, and ``s6 = -s5 sign(m)`` so that the coupling is a mirror in DH
+    angles. Between the two choices of ``s2`` the one matching more URDF directions is taken.
+    """
+    s4 = _forearm_sign(points, u, pref[3])
+    best, best_cost = None, None
+    for s2 in (pref[1], -pref[1]):
+        s = np.array([pref[0], s2, 0.0, s4, 0.0, 0.0, 0.0])
+        s[2] = _sign(float(u[2] @ u[1]) * s2, pref[2])
+        s[4] = _sign(float(u[4] @ u[3]) * s4, pref[4])
+        s[5] = -s[4] * _sign(m, 1.0)
+        s[6] = _sign(float(u[6] @ u[5]) * s[5], pref[6])
+        cost = int(np.sum(s[:3] != pref[:3]))
+        if best_cost is None or cost < best_cost:
+            best, best_cost = s, cost
+    return best
+
+
+def _dh_from_lines(points, dirs, sign, T_base_tip, names, size, source):
+    """Modified DH frames on the axis lines (zero posture, base link coordinates).
+
+    Returns ``(dh (7, 4) with the zero-posture angles in the offset column, base, tool)``.
+    """
+    z = [sign[i] * dirs[i] for i in range(7)]
+    # frame 0 on axis 1, nearest the base link origin; x0 along the base link's x
+    o_prev = points[0] - (points[0] @ z[0]) * z[0]
+    x_prev = _perp_unit(np.array([1.0, 0.0, 0.0]), z[0], np.array([0.0, 1.0, 0.0]))
+    frames = [(x_prev, z[0], o_prev)]
+    # wrist normals: x4 = -(z4 x z5), x5 = +(z5 x z6), x6 = -(z6 x z7) give twists (-b, 2b, -b), b > 0
+    wrist_sigma = {3: -1.0, 4: 1.0, 5: -1.0}
+    for i in range(7):
+        if i == 6:  # frame 7 on axis 7, nearest the tip origin; x7 along the tip's x
+            tip_o = T_base_tip[:3, 3]
+            o = points[6] + ((tip_o - points[6]) @ z[6]) * z[6]
+            x = _perp_unit(T_base_tip[:3, 0], z[6], T_base_tip[:3, 1])
+            frames.append((x, z[6], o))
+            break
+        cross = np.cross(z[i], z[i + 1])
+        sin = float(np.linalg.norm(cross))
+        if sin <= PARALLEL_TOL:
+            # parallel: put frame i where the previous normal meets axis i (d_i = 0)
+            o = points[i] + ((o_prev - points[i]) @ z[i]) * z[i]
+            gap = points[i + 1] - o
+            gap = gap - (gap @ z[i]) * z[i]
+            x = _unit(gap) if np.linalg.norm(gap) > 1e-12 * size else x_prev
+        else:
+            t1, t2 = _foot(points[i], z[i], points[i + 1], z[i + 1])
+            near = max(abs(t1), abs(t2))
+            if near > FAR_NORMAL * size:
+                raise FamilyError(
+                    f"{source}: the axes of joints {names[i]!r} and {names[i + 1]!r} are almost but not "
+                    f"exactly parallel ({math.degrees(math.asin(min(sin, 1.0))):.3g} deg): their common "
+                    f"normal lies {near:.3g} m away, so the chain cannot be written exactly in modified DH "
+                    f"parameters; make them parallel (ik7r takes axes within {PARALLEL_TOL:g} rad as "
+                    "parallel)")
+            o = points[i] + t1 * z[i]
+            n = cross / sin
+            if i in wrist_sigma:
+                x = wrist_sigma[i] * n
+            else:
+                a = float((points[i + 1] + t2 * z[i + 1] - o) @ n)
+                if abs(a) > 1e-9 * size:
+                    x = n if a > 0 else -n
+                else:  # intersecting: the direction nearest the previous x
+                    x = n if n @ x_prev >= 0 else -n
+        frames.append((x, z[i], o))
+        o_prev, x_prev = o, x
+    dh = np.zeros((7, 4))
+    for i in range(1, 8):
+        xp, zp, op = frames[i - 1]
+        x, zi, o = frames[i]
+        step = o - op
+        a = float(step @ xp)
+        d = float(step @ zi)
+        alpha = math.atan2(float(np.cross(zp, zi) @ xp), float(zp @ zi))
+        theta = math.atan2(float(np.cross(xp, x) @ zi), float(xp @ x))
+        dh[i - 1] = (_tidy(a, 1e-15 * size), _tidy(alpha, 1e-15), _tidy(d, 1e-15 * size), _tidy(theta, 1e-15))
+    dh[0, :2] = 0.0  # frame 0 is on axis 1 with z0 = z1 by construction (this only drops float noise)
+    base = _frame(*frames[0])
+    tool = invert(_frame(*frames[7])) @ T_base_tip
+    for T in (base, tool):  # float noise: exact zeros, an exact bottom row
+        T[:3, :3][np.abs(T[:3, :3]) < 1e-15] = 0.0
+        T[:3, 3][np.abs(T[:3, 3]) < 1e-15 * size] = 0.0
+        T[3] = (0.0, 0.0, 0.0, 1.0)
+    return dh, base, tool
+
+
+def robot_from_chain(chain: UrdfChain) -> Robot:
+    """The :class:`~ik7r.robot.model.Robot` of a URDF chain (see the module docstring)."""
+    src = chain.source
+    moving, m, c = _check_chain_family(chain)
+    names = tuple(j.name for j in moving)
+    q0 = np.zeros(7)
+    q0[5] = c
+    # zero posture: the axis lines in base link coordinates
+    T = np.eye(4)
+    points, dirs, k = [], [], 0
+    for j in chain.joints:
+        T = T @ j.origin
+        if j.type in _MOVING:
+            points.append(T[:3, 3].copy())
+            dirs.append(_unit(T[:3, :3] @ j.axis))
+            T = T @ _axis_rotation(j.axis, q0[k])
+            k += 1
+    T_base_tip = T
+    points, dirs = np.array(points), np.array(dirs)
+    size = float(np.sum(np.linalg.norm(np.diff(np.vstack([points, T_base_tip[:3, 3]]), axis=0), axis=1)))
+    size = max(size, 1e-9)
+    pref = np.array([_preferred_sign(j.axis) for j in moving])
+    sign = _joint_signs(points, dirs, pref, m)
+    z5, z6 = sign[4] * dirs[4], sign[5] * dirs[5]
+    if float(z5 @ z6) < -math.sin(ANGLE_TOL):
+        raise FamilyError(
+            f"{src}: joint {names[5]!r} mimics {names[4]!r} with multiplier {m:g}, which with these axis "
+            f"directions turns the wrist the same way as joint {names[4]!r} instead of mirroring it; a "
+            f"mirror wrist needs multiplier {-m:g}")
+    dh, base, tool = _dh_from_lines(points, dirs, sign, T_base_tip, names, size, src)
+    dh[5, 3] -= sign[5] * c  # theta6 = s6 q6 + offset6, and q6 = c in the zero posture
+    lower = np.array([-math.pi if j.lower is None else j.lower for j in moving])
+    upper = np.array([math.pi if j.upper is None else j.upper for j in moving])
+    vel = np.array([0.0 if j.velocity is None else j.velocity for j in moving])
+    keep = [0, 1, 2, 3, 4, 6]
+    velocity = vel[keep] if np.all(vel[keep] > 0) else None
+    try:
+        robot = Robot(
+            name=chain.name, dh=dh, unit="m", lower=lower[keep], upper=upper[keep], velocity=velocity,
+            coupling=(m, c), joint_sign=sign, base=base, tool=tool, joint_names=names,
+            description=f"from URDF {Path(src).name}, chain {chain.base} -> {chain.tip}",
+        )
+    except FamilyError as exc:
+        raise FamilyError(f"{src}: {exc}") from exc
+    except ValueError as exc:
+        raise RobotFileError(f"{src}: {exc}") from exc
+    _check_fk(robot, chain, size)
+    return robot
+
+
+def dh_fk(robot: Robot, q) -> np.ndarray:
+    """Forward kinematics of ``robot`` in NumPy (``(..., 6)`` rad -> ``(..., 4, 4)``); the same
+    model as :meth:`Robot.fk`, used to check conversions without the compiled kernels."""
+    q = np.asarray(q, dtype=float)
+    m, c = robot.coupling
+    q7 = np.concatenate([q[..., :5], (m * q[..., 4] + c)[..., None], q[..., 5:6]], axis=-1)
+    theta = robot.joint_sign * q7 + robot.dh[:, 3]
+    A = dh_transform(robot.dh[:, 0], robot.dh[:, 1], theta, robot.dh[:, 2])
+    T = np.broadcast_to(robot.base, q.shape[:-1] + (4, 4)).copy()
+    for i in range(7):
+        T = T @ A[..., i, :, :]
+    return T @ robot.tool
+
+
+def _check_fk(robot: Robot, chain: UrdfChain, size: float) -> None:
+    rng = np.random.default_rng(0)
+    q = rng.uniform(-math.pi, math.pi, (16, 6))
+    m, c = robot.coupling
+    q7 = np.concatenate([q[:, :5], (m * q[:, 4] + c)[:, None], q[:, 5:]], axis=1)
+    err = np.abs(dh_fk(robot, q) - chain.transforms(q7))
+    err[:, :3, 3] /= size + 1.0
+    worst = float(err.max())
+    if worst > FK_CHECK_TOL:
+        raise FamilyError(f"{chain.source}: the chain could not be written exactly in modified DH parameters "
+                          f"(forward kinematics differ by {worst:.3g} relative to its size)")
+
+
+def robot_from_urdf_string(text: str | bytes, *, base: str | None = None, tip: str | None = None,
+                           source: str = "<string>") -> Robot:
+    """:func:`robot_from_urdf` for URDF text."""
+    return robot_from_chain(read_chain(text, base=base, tip=tip, source=source))
+
+
+def robot_from_urdf(path, *, base: str | None = None, tip: str | None = None) -> Robot:
+    """Load a robot from a URDF file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.urdf`` file.
+    base, tip : str, optional
+        Links the chain runs from and to (default: the root link and the deepest leaf).
+
+    Returns
+    -------
+    Robot
+        Lengths in metres; the independent joints are the chain's revolute (and continuous)
+        joints that are not mimic joints, in chain order; joint limits from ``<limit>``
+        (continuous joints: [-pi, pi]); velocity limits when every independent joint has one.
+
+    Raises
+    ------
+    RobotFileError
+        Malformed file (a ``ValueError``).
+    FamilyError
+        The chain is not of the family (a ``ValueError`` naming the joint).
+    """
+    p = Path(path)
+    # bytes, so that the XML declaration's encoding is honoured
+    return robot_from_urdf_string(p.read_bytes(), base=base, tip=tip, source=str(p))
+
+
+# ---------------------------------------------------------------------------- writing
+def _fmt(values) -> str:
+    return " ".join(repr(float(v)) if v != 0 else "0" for v in values)
+
+
+def _origin(T: np.ndarray, scale: float) -> str:
+    rpy = matrix_to_rpy(T[:3, :3])
+    return f'<origin xyz="{_fmt(T[:3, 3] * scale)}" rpy="{_fmt(rpy)}"/>'
+
+
+def robot_to_urdf(robot: Robot) -> str:
+    """The URDF text of ``robot`` (lengths converted to metres).
+
+    Links ``base_link`` (the robot's world frame), ``link_0`` ... ``link_7`` (the DH frames)
+    and ``tool0`` (the TCP); fixed joints ``base_link-link_0`` (``robot.base``) and
+    ``link_7-tool0`` (``robot.tool``); the sixth revolute joint carries ``<mimic>`` with the
+    robot's coupling. Joint limits and velocities are written (velocity 0 when the robot has
+    none; effort is not modelled and written as 0); acceleration limits are not part of URDF.
+    Loading the result with :func:`robot_from_urdf` gives the same forward kinematics.
+    """
+    if robot.unit not in METRES_PER_UNIT:
+        raise ValueError(f"cannot write a URDF for a robot in unit {robot.unit!r}; "
+                         f"known units: {', '.join(METRES_PER_UNIT)}")
+    scale = METRES_PER_UNIT[robot.unit]
+
+    def esc(s: str) -> str:
+        return (s.replace("&", "&amp;").replace('"', "&quot;").replace("<", "&lt;")
+                .replace(">", "&gt;").replace("--", "- -"))
+
+    names = list(robot.joint_names)
+    fixed_base, fixed_tool = "base_link-link_0", "link_7-tool0"
+    while fixed_base in names or fixed_tool in names:
+        fixed_base, fixed_tool = fixed_base + "_fixed", fixed_tool + "_fixed"
+    m, c = robot.coupling
+    lower = list(robot.lower[:5]) + [None] + [robot.lower[5]]
+    upper = list(robot.upper[:5]) + [None] + [robot.upper[5]]
+    ends = (m * robot.lower[4] + c, m * robot.upper[4] + c)
+    lower[5], upper[5] = min(ends), max(ends)
+    vel = [0.0] * 7 if robot.velocity is None else list(robot.velocity[:5]) + [0.0, robot.velocity[5]]
+    if robot.velocity is not None:
+        vel[5] = abs(m) * robot.velocity[4]
+    lines = [
+        '<?xml version="1.0"?>',
+        f"<!-- Written by ik7r from robot {esc(robot.name)} (unit {esc(robot.unit)}; "
+        "lengths here in metres).",
+        "     Link i is the modified DH frame i; joint 6 mimics joint 5. -->",
+        f'<robot name="{esc(robot.name)}">',
+    ]
+    lines += [f'  <link name="{ln}"/>' for ln in ["base_link"] + [f"link_{i}" for i in range(8)] + ["tool0"]]
+    lines += [f'  <joint name="{esc(fixed_base)}" type="fixed">', '    <parent link="base_link"/>',
+              '    <child link="link_0"/>', f"    {_origin(robot.base, scale)}", "  </joint>"]
+    for i in range(7):
+        a, alpha, d, off = robot.dh[i]
+        # RotX(alpha) TransX(a) RotZ(sign q + off) TransZ(d) = [origin at q = 0] RotZ(sign q)
+        T = dh_transform(a, alpha, off, d)
+        lines += [f'  <joint name="{esc(names[i])}" type="revolute">', f'    <parent link="link_{i}"/>',
+                  f'    <child link="link_{i + 1}"/>', f"    {_origin(T, scale)}",
+                  f'    <axis xyz="0 0 {int(robot.joint_sign[i])}"/>',
+                  f'    <limit lower="{float(lower[i])!r}" upper="{float(upper[i])!r}" '
+                  f'velocity="{float(vel[i])!r}" effort="0"/>']
+        if i == 5:
+            lines.append(f'    <mimic joint="{esc(names[4])}" multiplier="{float(m)!r}" '
+                         f'offset="{float(c)!r}"/>')
+        lines.append("  </joint>")
+    lines += [f'  <joint name="{esc(fixed_tool)}" type="fixed">', '    <parent link="link_7"/>',
+              '    <child link="tool0"/>', f"    {_origin(robot.tool, scale)}", "  </joint>", "</robot>"]
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,167 @@
+"""The compiled kernels' fast forms against their plain definitions.
+
+The solver samples the residual in SIMD loops and carries joint angles as cosine and sine
+pairs; these tests check each fast form against the definition it replaces (and the wrist
+against its forward rotation), on the paper robot and on a robot with every offset.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+import ik7r
+from ik7r._kernels import complete as _complete
+from ik7r._kernels import fk as _kin
+from ik7r._kernels import params as _layout
+from ik7r._kernels import poly as _poly
+from ik7r._kernels import wrist as _wrist
+from ik7r.geometry.configs import config_number
+
+OFFSETS_TOML = """
+name = "offsets"
+unit = "mm"
+[dh]
+a = [0, 300, 1200, 186, 0, 0, 0]
+alpha = [0, -90, 0, -90, 35, -70, 35]
+d = [660, 40, -15, 1400, 79, 79, 82]
+theta_offset = [0, -90, 10, 0, 0, 0, 0]
+[limits]
+lower = [-150, -80, -75, -340, -180, -340]
+upper = [150, 80, 75, 340, 180, 340]
+"""
+
+
+@pytest.fixture(scope="module")
+def robots(tmp_path_factory):
+    path = tmp_path_factory.mktemp("robots") / "offsets.toml"
+    path.write_text(OFFSETS_TOML)
+    return {"paper": ik7r.load_robot(), "offsets": ik7r.load_robot(path)}
+
+
+def _approach(rng):
+    a = rng.normal(size=3)
+    return a / np.linalg.norm(a)
+
+
+@pytest.mark.parametrize("name", ["paper", "offsets"])
+def test_sampled_residual_equals_its_definition(robots, name):
+    """The SIMD sampling inside the root isolation gives the residual of ``residual_of`` at
+    every Chebyshev point, including points where the shoulder branches are complex
+    (``Px^2 + Py^2 < b^2``, completed outside the SIMD loop)."""
+    robot = robots[name]
+    K = robot.kernel_params
+    Bm, bnorm = _layout.bernstein_tables(robot.kernel_params)
+    n = Bm.shape[0] - 1
+    rng = np.random.default_rng(11)
+    lo, hi = _complete._interval(K)
+    complex_seen = 0
+    for k in range(200):
+        a = _approach(rng)
+        # half the poses put the virtual centre within the lateral offset of axis 1
+        p = rng.uniform(-2000, 2000, 3) if k % 2 else np.array([0.0, 0.0, 1200.0]) + 200 * a
+        b, vals, mags = np.empty(n + 1), np.empty(n + 1), np.empty(n + 1)
+        u0, u1 = sorted(rng.uniform(lo, hi, 2)) if k % 3 else (lo, hi)
+        _poly._bernstein(0, u0, u1, p, a, K, Bm, bnorm, b, vals, mags)
+        for j in range(n + 1):
+            u = 0.5 * (u0 + u1) + 0.5 * (u1 - u0) * math.cos(math.pi * j / n)
+            v, m = _poly.residual_of(0, u, p, a, K)
+            assert m >= 0.0 and mags[j] == pytest.approx(m, rel=1e-12)
+            assert abs(vals[j] - v) <= 1e-12 * m
+            d = K[_layout.KW] / u
+            t = K[_layout.D7] + d
+            px, py = p[0] - t * a[0], p[1] - t * a[1]
+            complex_seen += px * px + py * py < K[_layout.B] ** 2
+        np.testing.assert_allclose(b, Bm @ vals, rtol=0, atol=1e-12 * bnorm * mags.max())
+    if name == "offsets":
+        assert complex_seen > 0  # the completion outside the SIMD loop was exercised
+
+
+def test_theta5_cosine_and_sine_from_the_half_angle(robots):
+    K = robots["paper"].kernel_params
+    d = np.linspace(K[_layout.KW], K[_layout.DMAX], 1001)
+    for dk in d:
+        t5, c5, s5 = _wrist.theta5_cs_of_d(dk, K)
+        assert t5 == _wrist.theta5_of_d(dk, K)
+        # a few ulps, amplified towards the fold as both come from sin(t5 / 2) close to 1
+        tol = 4e-16 / max(math.cos(0.5 * t5), 1e-3)
+        assert abs(c5 - math.cos(t5)) < tol and abs(s5 - math.sin(t5)) < tol
+        assert _wrist.d_of_theta5(t5, K) == pytest.approx(dk, rel=1e-12)
+
+
+@pytest.mark.parametrize("name", ["paper", "offsets"])
+def test_wrist_from_cosine_and_sine_inverts_the_wrist_rotation(robots, name):
+    """``Q = RotZ(t4) W(t5) RotZ(t7)`` built forward is solved back to (t4, t7)."""
+    K = robots[name].kernel_params
+    rng = np.random.default_rng(5)
+    W = np.empty((3, 3))
+    for _ in range(500):
+        t4, t7 = rng.uniform(-np.pi, np.pi, 2)
+        t5 = rng.choice([-1.0, 1.0]) * rng.uniform(1e-3, np.pi - 1e-3)
+        _wrist.wrist_rotation(t5, K, W)
+        Q = _rot_z(t4) @ W @ _rot_z(t7)
+        g4, g7 = _wrist.wrist_ik_cs(Q, math.cos(t5), math.sin(t5), 0.0, K, np.empty((3, 3)))
+        assert abs(_complete.wrap(g4 - t4)) < 1e-9 and abs(_complete.wrap(g7 - t7)) < 1e-9
+
+
+def _rot_z(t):
+    c, s = math.cos(t), math.sin(t)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+@pytest.mark.parametrize("name", ["paper", "offsets"])
+def test_indicator_from_cosine_and_sine(robots, name):
+    """The configuration filter's test on (cos, sin) of a DH angle agrees with the indicator
+    of the user angle (configs.config_number) away from its boundaries."""
+    K = robots[name].kernel_params
+    rng = np.random.default_rng(9)
+    margin = 1e-3
+    for theta in rng.uniform(-2 * np.pi, 2 * np.pi, 2000):
+        for i in (0, 2):  # joint 1 (Arm) and joint 3 (Elbow)
+            q = np.zeros(6)
+            q[i] = (theta - K[_layout.DH + 4 * i + 3]) * K[_layout.SIGN + i]
+            near = abs(abs(_complete.wrap(q[i])) - math.pi / 2) < 2 * margin
+            # configuration 1 is Arm 1, Elbow 1; Arm is the 4s bit, Elbow the 2s bit
+            bit = 4 if i == 0 else 2
+            indicator = 1 - ((config_number(q) - 1) & bit) // bit
+            for asked in (0, 1):
+                got = _complete._may_match(i, math.cos(theta), math.sin(theta), asked, margin, K)
+                if near:
+                    assert got or asked != indicator
+                else:
+                    assert got == (asked == indicator)
+
+
+def test_sincos_within_an_ulp_of_the_c_library():
+    """The forward kinematics' own sine and cosine, against ``math`` over the angles joints
+    take (and beyond), at the quadrant boundaries and at special values."""
+    rng = np.random.default_rng(13)
+    xs = np.concatenate([
+        rng.uniform(-4.0, 4.0, 20000),
+        rng.uniform(-1e4, 1e4, 5000),
+        np.arange(-16, 17) * (math.pi / 4),  # quadrant boundaries and their halves
+        np.nextafter(np.arange(-8, 9) * (math.pi / 2), np.inf),
+        [0.0, -0.0, 1e-300, -1e-300, 99999.9, -99999.9, 1e5, 3e8],
+    ])
+    for x in xs:
+        c, s = _kin.sincos(x)
+        assert abs(c - math.cos(x)) <= 2.3e-16 and abs(s - math.sin(x)) <= 2.3e-16, x
+    for x in (math.inf, -math.inf, math.nan):
+        assert all(math.isnan(v) for v in _kin.sincos(x))
+
+
+def test_rotation_log_inverts_the_exponential_up_to_pi():
+    """The polish's rotation error: exp(log R) = R, including angles at and near pi."""
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(17)
+    axes = rng.normal(size=(400, 3))
+    axes /= np.linalg.norm(axes, axis=1)[:, None]
+    angles = np.concatenate([rng.uniform(0, np.pi, 200), np.pi - np.geomspace(1e-3, 1e-12, 100),
+                             np.full(100, np.pi)])
+    w = np.empty(3)
+    for axis, angle in zip(axes, angles):
+        R = Rotation.from_rotvec(angle * axis).as_matrix()
+        _kin.rotation_log(R, w)
+        assert np.linalg.norm(w) <= np.pi + 1e-12
+        np.testing.assert_allclose(Rotation.from_rotvec(w).as_matrix(), R, atol=1e-9)
