@@ -7,18 +7,30 @@ non-spherical wrist (painting robots such as the ABB IRB 5400).
 >>> robot.ik_all(T).shape[1]
 6
 
-Nothing heavy happens at import time: the compiled kernels load on first use.
+Nothing heavy happens at import time: the subpackages and the compiled kernels load on first
+use. The subpackages, one per concept:
+
+=============== ==============================================================================
+``robot``       the frozen :class:`Robot`, its family, TOML robot files and URDF
+``geometry``    rotations and transforms, the Arm/Elbow/Wrist indicators, input checks
+``ik``          the complete solver, warm-started paths, chunked batches, the paper's iteration
+``painting``    painting paths, trajectory IK, timing, outputs and plots
+``reproduce``   the paper's tables and figures
+``cli``         the ``ik7r`` command line
+=============== ==============================================================================
 """
 
 from __future__ import annotations
 
-from .errors import FamilyError, RobotFileError, UnreachableError
+from ._lazy import lazy_exports
+from .errors import FamilyError, Ik7rError, RobotFileError, UnreachableError
 
 __version__ = "0.1.0"
 
 __all__ = [
     "load_robot",
     "Robot",
+    "Ik7rError",
     "UnreachableError",
     "RobotFileError",
     "FamilyError",
@@ -27,17 +39,8 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    if name == "load_robot":
-        from .robot.files import load_robot
-
-        return load_robot
-    if name == "Robot":
-        from .robot.model import Robot
-
-        return Robot
-    if name == "MAX_SOLUTIONS":
-        from ._kernels.params import MAX_SOLUTIONS  # no numba: params is plain numpy
-
-        return MAX_SOLUTIONS
-    raise AttributeError(f"module 'ik7r' has no attribute {name!r}")
+__getattr__, __dir__ = lazy_exports(
+    __name__,
+    {"load_robot": "robot.files", "Robot": "robot.model", "MAX_SOLUTIONS": "_kernels.params"},
+    ("robot", "geometry", "ik", "painting", "reproduce", "units", "cli"),
+)

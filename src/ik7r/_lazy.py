@@ -31,6 +31,6 @@ def lazy_exports(package: str, exports: dict[str, str],
         return value
 
     def __dir__() -> list:
-        return sorted([*exports, *modules])
+        return sorted({*vars(sys.modules[package]), *exports, *modules})
 
     return __getattr__, __dir__

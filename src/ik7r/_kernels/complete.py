@@ -158,7 +158,7 @@ def _straight_split(q, Q, K, hint, has_hint):
     the hint, else with theta4 = 0."""
     s4 = K[L.SIGN + 3]
     s7 = K[L.SIGN + 6]
-    total = math.atan2(Q[1, 0], Q[0, 0]) - K[L.DH + 15] - K[L.DH + 27]  # s4 q4 + s7 q7
+    total = math.atan2(Q[1, 0], Q[0, 0]) - K[L.THETA_OFFSET4] - K[L.THETA_OFFSET7]  # s4 q4 + s7 q7
     if has_hint:
         lam = 0.5 * wrap(total - s4 * hint[3] - s7 * hint[5])
         q[3] = hint[3] + s4 * lam
@@ -285,7 +285,7 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws, m
     qq = ws[_QQ:_QQ + 6]  # q completed with a wrist solution
     for i in range(3):
         q[i] = user_angle(i, _angle(th, i), K)
-    t4_hint = K[L.SIGN + 3] * hint[3] + K[L.DH + 15]
+    t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
     if t5 < FOLD_WINDOW:
         # straight wrist: one member of the theta4 + theta7 family
         for i in range(6):
@@ -359,7 +359,7 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
         kw = K[L.KW]
         cphi = 2.0 * kw * kw / (d * d) - 1.0
         axy = math.hypot(a[0], a[1])
-        t1h = K[L.SIGN] * hint[0] + K[L.DH + 3]
+        t1h = K[L.SIGN] * hint[0] + K[L.THETA_OFFSET1]
         a11, a12, m, a21, a22, c = linear_system(d, 0.0, p, a, K)
         for k in range(_psi_candidates(a11, a12, m, 0.0, 0.0, 0.0, psi)):
             cp = psi[k, 0]
@@ -477,7 +477,7 @@ def _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt, ws
     (else 0) and solve the remaining 1-D problem with the same certified root isolation."""
     roots = ws[_ROOTS:_ROOTS + ROOT_CAP]
     nr = _roots(1, p, a, K, Bm, bnorm, roots, ws)
-    th1 = K[L.SIGN] * hint[0] + K[L.DH + 3] if has_hint else K[L.DH + 3]
+    th1 = K[L.SIGN] * hint[0] + K[L.THETA_OFFSET1] if has_hint else K[L.THETA_OFFSET1]
     c1, s1 = math.cos(th1), math.sin(th1)
     psi = mats[_PSI]
     th = ws[_TH:_TH + 6]

@@ -24,8 +24,8 @@ def _dh_angle(q, K, i):
     if i < 5:
         return K[L.SIGN + i] * q[i] + K[L.DH + 4 * i + 3]
     if i == 5:
-        return K[L.SIGN + 5] * (K[L.MIMIC] * q[4] + K[L.MIMIC + 1]) + K[L.DH + 23]
-    return K[L.SIGN + 6] * q[5] + K[L.DH + 27]
+        return K[L.SIGN + 5] * (K[L.MIMIC] * q[4] + K[L.MIMIC + 1]) + K[L.THETA_OFFSET6]
+    return K[L.SIGN + 6] * q[5] + K[L.THETA_OFFSET7]
 
 
 @njit

@@ -16,12 +16,10 @@ import os
 JIT_ENABLED = os.environ.get("IK7R_JIT", "1") != "0"
 
 _njit = None
-HAVE_NUMBA = False
 if JIT_ENABLED:
     try:  # pragma: no cover - exercised implicitly
         from numba import njit as _njit
 
-        HAVE_NUMBA = True
     except ImportError:  # pragma: no cover
         _njit = None
 

@@ -23,6 +23,12 @@ BASE_INV = 53
 TOOL = 69  # 4x4 frame 7 <- tool
 TOOL_INV = 85
 
+# fields of the DH block the kernels read by name (row i-1 of joint i: DH + 4 (i - 1) + column)
+THETA_OFFSET1 = DH + 3  # theta_offset of joint 1
+THETA_OFFSET4 = DH + 15
+THETA_OFFSET6 = DH + 23
+THETA_OFFSET7 = DH + 27
+
 # nominal family parameters (used by the virtual-wrist solvers)
 NOM = 101
 A1 = NOM + 0  # shoulder offset a1
@@ -50,6 +56,7 @@ NCHEB = NOM + 20  # degree of the residual polynomial (8 or 16)
 LIMITS = NOM + 24  # lower (6) then upper (6), rad, independent joints
 NDH = LIMITS + 12  # the nominal (idealised) DH table, same layout as DH
 TRIG = NDH + 28  # cos, sin of each alpha_{i-1}: 7 pairs for DH, then 7 pairs for NDH
+NOMINAL_TRIG = TRIG + 14  # the nominal table's 7 pairs
 OFFSET_TRIG = TRIG + 28  # cos, sin of each theta_offset_i of the DH table: 7 pairs
 BASE_SIZE = OFFSET_TRIG + 14
 
@@ -65,7 +72,7 @@ MAX_SOLUTIONS = 32
 
 
 def pack(robot) -> np.ndarray:
-    """The parameter vector ``K`` of ``robot`` (read-only ``float64``, :data:`SIZE` long)."""
+    """The parameter vector ``K`` of ``robot`` (read-only ``float64``, ``SIZE`` long)."""
     f = robot.family
     K = np.zeros(BASE_SIZE)
     K[DH:DH + 28] = robot.dh.reshape(-1)

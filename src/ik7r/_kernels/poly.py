@@ -34,7 +34,6 @@ from . import params as L
 from .jit import njit
 
 WMIN = 1e-12  # smallest interval width of the subdivision, in units of the search interval
-MAX_ROOTS = 40
 ZERO_WIDTH = 1e-6  # an interval zero within rounding is split further while wider than this
 REFINE_GRID = 32  # grid of an undecided bracket: sign changes and local minima of |f|
 MAX_DEGREE = 16

@@ -117,8 +117,8 @@ def _rot_z(W, c, s):
 def wrist_target(R03, R07, K, Q):
     """``Q = RotX(alpha3)^T R03^T R07`` (3, 3): the wrist's rotation with theta4 = theta7 = 0
     factored out, so that ``Q = RotZ(theta4) W(theta5) RotZ(theta7)``."""
-    ca = K[L.TRIG + 14 + 6]  # cos, sin of the nominal alpha3
-    sa = K[L.TRIG + 14 + 7]
+    ca = K[L.NOMINAL_TRIG + 6]  # cos, sin of the nominal alpha3
+    sa = K[L.NOMINAL_TRIG + 7]
     for j in range(3):
         x = R03[0, 0] * R07[0, j] + R03[1, 0] * R07[1, j] + R03[2, 0] * R07[2, j]
         y = R03[0, 1] * R07[0, j] + R03[1, 1] * R07[1, j] + R03[2, 1] * R07[2, j]

@@ -118,7 +118,7 @@ def ik_paper(robot, T, config=1, *, theta5_start=None, tol: float = 1e-14,
         Q = np.empty((3, 3))
         wrist_target(M[:3, :3], T07[:3, :3], K, Q)
         t5_new = sign * theta5_of_cos_bend(Q[2, 2], K)        # Appendix 2
-        t4, t7 = wrist_ik(Q, t5_new, K[L.DH + 15], K)
+        t4, t7 = wrist_ik(Q, t5_new, K[L.THETA_OFFSET4], K)
         q = np.array([user_angle(0, th[0], K), user_angle(1, th[1], K), user_angle(2, th[2], K),
                       user_angle(3, t4, K), user_angle(4, t5_new, K), user_angle(6, t7, K)])
         fk_user(q, K, T)
