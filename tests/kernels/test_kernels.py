@@ -51,7 +51,7 @@ def test_sampled_residual_equals_its_definition(robots, name):
     (``Px^2 + Py^2 < b^2``, completed outside the SIMD loop)."""
     robot = robots[name]
     K = robot.kernel_params
-    Bm, bnorm = _layout.bernstein_tables(robot.kernel_params)
+    Bm, bnorm = _poly.bernstein_tables(robot.kernel_params)
     n = Bm.shape[0] - 1
     rng = np.random.default_rng(11)
     lo, hi = _complete._interval(K)

@@ -7,11 +7,11 @@ importing a kernel module imports numba). Every kernel reads the robot through o
 ========== ===========================================================================
 module     what it computes
 ========== ===========================================================================
-params     the layout of ``K`` and its packing from a robot; the Bernstein tables
+params     the layout of ``K`` and its packing from a robot
 fk         DH chain, forward kinematics, frames, Jacobian, pose error, Newton polish
 arm        the arm (joints 1-3) for a virtual wrist centre
 wrist      the wrist (joints 4, 5, 7) and the theta5 <-> d map
-poly       the residual polynomial and its certified root isolation
+poly       the residual polynomial, its certified root isolation, the Bernstein tables
 complete   every solution of one pose
 select     indicators, joint limits, nearest to a seed; fused single and batch calls
 track      warm-started paths
@@ -31,6 +31,7 @@ _EXPORTS = {
     "residual": "fk", "user_angle": "fk", "pose_error": "fk", "solve6": "fk",
     "arm_ik": "arm",
     "d_of_theta5": "wrist", "theta5_of_cos_bend": "wrist", "wrist_ik": "wrist", "wrist_target": "wrist",
+    "bernstein_tables": "poly",
     "frame07": "complete",
     "all_rows": "select", "config_rows": "select", "ik_all_one": "select", "ik_one": "select",
     "track": "track",
@@ -39,6 +40,7 @@ _EXPORTS = {
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, _MODULES)
 __all__ = [
+    "bernstein_tables",
     "JIT_ENABLED",
     "all_rows",
     "arm_ik",

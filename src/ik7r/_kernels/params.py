@@ -8,7 +8,6 @@ the same short signature. The offsets below name the fields of that vector.
 from __future__ import annotations
 
 import math
-from functools import cache
 
 import numpy as np
 
@@ -115,17 +114,3 @@ def pack(robot) -> np.ndarray:
     K = np.concatenate([K, *steps])
     K.setflags(write=False)
     return K
-
-
-@cache
-def _bernstein_tables(n: int) -> tuple[np.ndarray, float]:
-    from .poly import bernstein_matrices
-
-    _, Bm = bernstein_matrices(n)
-    return Bm, float(np.abs(Bm).sum(axis=1).max())
-
-
-def bernstein_tables(K: np.ndarray) -> tuple[np.ndarray, float]:
-    """``(Bm, bnorm)`` for the residual degree of ``K``: the matrix from values at the
-    Chebyshev-Lobatto points to Bernstein coefficients, and its infinity norm."""
-    return _bernstein_tables(int(K[NCHEB]))

@@ -560,3 +560,15 @@ def _golden(kind, lo, hi, p, a, K):
         else:
             lo = x1
     return 0.5 * (lo + hi)
+
+
+@cache
+def _bernstein_tables(n: int) -> tuple[np.ndarray, float]:
+    _, Bm = bernstein_matrices(n)
+    return Bm, float(np.abs(Bm).sum(axis=1).max())
+
+
+def bernstein_tables(K: np.ndarray) -> tuple[np.ndarray, float]:
+    """``(Bm, bnorm)`` for the residual degree of ``K``: the matrix from values at the
+    Chebyshev-Lobatto points to Bernstein coefficients, and its infinity norm."""
+    return _bernstein_tables(int(K[L.NCHEB]))

@@ -66,7 +66,7 @@ def ik_path(robot, T, config=1, *, seed=None, within_limits: bool = False,
     -------
     PathIK
     """
-    from .._kernels import params, track
+    from .._kernels import bernstein_tables, track
 
     arm, elbow, wrist = check_config(config)
     Tc, good = poses_status(T)
@@ -82,7 +82,7 @@ def ik_path(robot, T, config=1, *, seed=None, within_limits: bool = False,
     q = np.empty((n, 6))
     ok = np.zeros(n, dtype=bool)
     tracked = np.zeros(n, dtype=bool)
-    Bm, bnorm = params.bernstein_tables(robot.kernel_params)
+    Bm, bnorm = bernstein_tables(robot.kernel_params)
     track(np.ascontiguousarray(Tc), robot.kernel_params, Bm, bnorm, arm, elbow, wrist,
                  np.ascontiguousarray(s), has_seed, bool(within_limits), float(max_step),
                  np.ascontiguousarray(good), q, ok, tracked)

@@ -12,7 +12,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from .._kernels import all_rows, config_rows, ik_all_one, ik_one
+from .._kernels import all_rows, bernstein_tables, config_rows, ik_all_one, ik_one
 from .._kernels import params as L
 from ..errors import UnreachableError
 from ..geometry.checks import (
@@ -135,7 +135,7 @@ def ik_all(robot, T, *, within_limits: bool = False, seed=None) -> np.ndarray:
     """
     T = _one_pose(T, "ik_all_batch")
     hint, has = _seed(seed, (6,), T)
-    Bm, bnorm = L.bernstein_tables(robot.kernel_params)
+    Bm, bnorm = bernstein_tables(robot.kernel_params)
     out = np.empty((MAX_SOLUTIONS * 64 if within_limits else MAX_SOLUTIONS, 6))
     n = ik_all_one(T, ORTHONORMAL_TOL, robot.kernel_params, Bm, bnorm, hint, has,
                    bool(within_limits), out)
@@ -175,7 +175,7 @@ def ik(robot, T, config=1, *, seed=None, within_limits: bool = False) -> np.ndar
     arm, elbow, wrist = check_config(config)
     T = _one_pose(T, "ik_batch")
     hint, has = _seed(seed, (6,), T)
-    Bm, bnorm = L.bernstein_tables(robot.kernel_params)
+    Bm, bnorm = bernstein_tables(robot.kernel_params)
     sols = np.empty((MAX_SOLUTIONS, 6))
     q = np.empty(6)
     n, found = ik_one(T, ORTHONORMAL_TOL, robot.kernel_params, Bm, bnorm, arm, elbow, wrist,
@@ -222,7 +222,7 @@ def ik_batch(robot, T, config=1, *, seed=None, within_limits: bool = False):
     ok = np.empty(n, dtype=bool)
     Tc = np.empty_like(T)
     good = np.empty(n, dtype=bool)
-    Bm, bnorm = L.bernstein_tables(robot.kernel_params)
+    Bm, bnorm = bernstein_tables(robot.kernel_params)
     K = robot.kernel_params
 
     def work(a, b):
@@ -253,7 +253,7 @@ def ik_all_batch(robot, T):
     counts = np.empty(n, dtype=np.int64)
     Tc = np.empty_like(T)
     good = np.empty(n, dtype=bool)
-    Bm, bnorm = L.bernstein_tables(robot.kernel_params)
+    Bm, bnorm = bernstein_tables(robot.kernel_params)
     K = robot.kernel_params
 
     def work(a, b):

@@ -6,7 +6,8 @@ module       what it holds
 model        :class:`Robot`, the frozen dataclass every solver takes
 family       what the 7R coupled-wrist family is; its nominal (idealised) parameters
 files        TOML robot files, the built-in robots (``data/``), unit conversion
-urdf         URDF import (``<mimic>`` joints) and export
+urdf         URDF import (``<mimic>`` joints)
+writers      TOML and URDF export (``Robot.to_toml``, ``Robot.to_urdf``)
 ============ ===================================================================
 """
 
@@ -20,12 +21,12 @@ _EXPORTS = {
     "Robot": "model",
     "load_robot": "files",
     "robot_from_toml": "files",
-    "robot_to_toml": "files",
+    "robot_to_toml": "writers",
     "robot_in_unit": "files",
     "BUILTIN_ROBOTS": "files",
     "robot_from_urdf": "urdf",
     "robot_from_urdf_string": "urdf",
-    "robot_to_urdf": "urdf",
+    "robot_to_urdf": "writers",
     "UrdfChain": "urdf",
     "read_chain": "urdf",
     "PARALLEL_TOL": "urdf",
@@ -40,7 +41,7 @@ _EXPORTS = {
 
 if TYPE_CHECKING:  # the names, for type checkers and IDEs
     from .family import ANGLE_TOL, LENGTH_TOL, MAX_BETA, Family, family_of
-    from .files import BUILTIN_ROBOTS, load_robot, robot_from_toml, robot_in_unit, robot_to_toml
+    from .files import BUILTIN_ROBOTS, load_robot, robot_from_toml, robot_in_unit
     from .model import DEFAULT_JOINT_NAMES, Robot
     from .urdf import (
         FK_CHECK_TOL,
@@ -49,10 +50,10 @@ if TYPE_CHECKING:  # the names, for type checkers and IDEs
         read_chain,
         robot_from_urdf,
         robot_from_urdf_string,
-        robot_to_urdf,
     )
+    from .writers import robot_to_toml, robot_to_urdf
 
-__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, ('model', 'family', 'files', 'urdf'))
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, ('model', 'family', 'files', 'urdf', 'writers'))
 __all__ = [
     "ANGLE_TOL",
     "BUILTIN_ROBOTS",

@@ -44,7 +44,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import FamilyError, RobotFileError
-from ..geometry.rotations import matrix_to_rpy, rpy_to_matrix, transform
+from ..geometry.rotations import rpy_to_matrix, transform
 from ..units import unit_scale
 from .model import DEFAULT_JOINT_NAMES, Robot
 
@@ -53,7 +53,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
-__all__ = ["load_robot", "robot_from_toml", "robot_to_toml", "robot_in_unit", "BUILTIN_ROBOTS"]
+__all__ = ["load_robot", "robot_from_toml", "robot_in_unit", "BUILTIN_ROBOTS"]
 
 #: Names of the robots shipped with ik7r (``ik7r.load_robot(name)``).
 BUILTIN_ROBOTS = {"paper": "paper.toml", "irb5400": "irb5400.toml"}
@@ -184,43 +184,6 @@ def robot_from_toml(text: str, source: str = "<string>") -> Robot:
         raise FamilyError(f"{source}: {exc}") from exc
     except ValueError as exc:
         raise RobotFileError(f"{source}: {exc}") from exc
-
-
-def _number(v) -> str:
-    v = float(v)
-    return str(int(v)) if v.is_integer() and abs(v) < 1e15 else repr(v)
-
-
-def _fmt(values) -> str:
-    return "[" + ", ".join(_number(v) for v in values) + "]"
-
-
-def robot_to_toml(robot: Robot) -> str:
-    """The TOML text of ``robot`` (round-trips through :func:`robot_from_toml` exactly)."""
-    def esc(s: str) -> str:
-        return s.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n")
-
-    lines = [f'name = "{esc(robot.name)}"', f'unit = "{esc(robot.unit)}"']
-    if robot.description:
-        lines.append(f'description = "{esc(robot.description)}"')
-    lines.append("joint_names = [" + ", ".join(f'"{esc(n)}"' for n in robot.joint_names) + "]")
-    lines += ["", "[dh]", f"a = {_fmt(robot.dh[:, 0])}", f"alpha = {_fmt(np.degrees(robot.dh[:, 1]))}",
-              f"d = {_fmt(robot.dh[:, 2])}", f"theta_offset = {_fmt(np.degrees(robot.dh[:, 3]))}",
-              f"sign = {_fmt(robot.joint_sign)}"]
-    lines += ["", "[coupling]", f"multiplier = {float(robot.coupling[0])!r}",
-              f"offset = {math.degrees(robot.coupling[1])!r}"]
-    lines += ["", "[limits]", f"lower = {_fmt(np.degrees(robot.lower))}",
-              f"upper = {_fmt(np.degrees(robot.upper))}"]
-    if robot.velocity is not None:
-        lines.append(f"velocity = {_fmt(np.degrees(robot.velocity))}")
-    if robot.acceleration is not None:
-        lines.append(f"acceleration = {_fmt(np.degrees(robot.acceleration))}")
-    for key in ("base", "tool"):
-        T = getattr(robot, key)
-        if not np.array_equal(T, np.eye(4)):
-            lines += ["", f"[{key}]", f"xyz = {_fmt(T[:3, 3])}",
-                      f"rpy = {_fmt(np.degrees(matrix_to_rpy(T[:3, :3])))}"]
-    return "\n".join(lines) + "\n"
 
 
 def robot_in_unit(robot: Robot, unit: str) -> Robot:

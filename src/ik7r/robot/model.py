@@ -154,14 +154,14 @@ class Robot:
         return self.replace(base=np.asarray(T_world_base, dtype=float))
 
     def to_toml(self) -> str:
-        """The robot as the text of a TOML robot file (see :func:`ik7r.robot.files.robot_to_toml`)."""
-        from .files import robot_to_toml
+        """The robot as the text of a TOML robot file (see :func:`ik7r.robot.writers.robot_to_toml`)."""
+        from .writers import robot_to_toml
 
         return robot_to_toml(self)
 
     def to_urdf(self) -> str:
         """The robot as the text of a URDF with a ``<mimic>`` joint (see :mod:`ik7r.robot.urdf`)."""
-        from .urdf import robot_to_urdf
+        from .writers import robot_to_urdf
 
         return robot_to_urdf(self)
 
