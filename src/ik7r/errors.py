@@ -7,7 +7,7 @@ raises the standard :class:`FileNotFoundError`.
 
 from __future__ import annotations
 
-__all__ = ["Ik7rError", "UnreachableError", "RobotFileError", "FamilyError"]
+__all__ = ["Ik7rError", "UnreachableError", "RobotFileError", "FamilyError", "PartFileError", "GunFileError"]
 
 
 class Ik7rError(Exception):
@@ -24,3 +24,12 @@ class RobotFileError(Ik7rError, ValueError):
 
 class FamilyError(Ik7rError, ValueError):
     """A kinematic chain is not of the 7R coupled-wrist family ik7r solves."""
+
+
+class PartFileError(Ik7rError, ValueError):
+    """A part (mesh) file is unreadable, empty, has no faces or non-finite vertices; the
+    message names the file and the problem."""
+
+
+class GunFileError(Ik7rError, ValueError):
+    """A spray-gun file (TOML) is malformed; the message names the file and the problem."""
