@@ -17,6 +17,10 @@ The steps, each usable on its own:
    (0.01 mm by default) and the joint speed and acceleration limits;
 4. :func:`write_trajectory_csv`, :func:`plot_joint_trajectory` (the paper's Figure 12),
    :func:`plot_path_3d`, :func:`animate_painting`.
+
+Real parts (:func:`paint_mesh`): :mod:`~ik7r.painting.parts` (meshes), :mod:`~ik7r.painting.surface`
+(rasters on a surface), :mod:`~ik7r.painting.spray` (guns), :mod:`~ik7r.painting.film` (film
+thickness), :mod:`~ik7r.painting.view` (heat map, 3-D view).
 """
 
 from __future__ import annotations
@@ -44,6 +48,8 @@ from .events import (
 )
 from .export import CSV_COLUMNS, trajectory_table, write_trajectory_csv
 from .interpolate import DEFAULT_RAMP, DEFAULT_RATE, Timing, Trajectory, default_tolerance, interpolate
+from .mesh import MeshPaintResult, paint_mesh
+from .parts import BUILTIN_PARTS, Part, load_part
 from .paths import (
     DEFAULT_ORIGIN,
     DEFAULT_SIZE,
@@ -57,6 +63,8 @@ from .paths import (
     workpiece_frame,
 )
 from .plots import animate_painting, plot_joint_trajectory, plot_path_3d
+from .spray import BUILTIN_GUNS, Gun, load_gun
+from .surface import surface_raster
 from .trajectory import DEFAULT_MAX_STEP, DEFAULT_SINGULAR_MARGIN, PathSolution, solve_path, track
 
 __all__ = [
@@ -70,6 +78,8 @@ __all__ = [
     "PathEvent", "Unreachable", "BranchChange", "WristCrossing", "ConfigChange", "JointLimit",
     "NearSingularity", "SpeedLimit", "AccelerationLimit", "TimeScaled", "DeviationExceeded",
     "PathNotFeasible", "format_report", "JOINT_LABELS",
+    "paint_mesh", "MeshPaintResult", "Part", "load_part", "BUILTIN_PARTS", "Gun", "load_gun", "BUILTIN_GUNS",
+    "surface_raster",
 ]
 
 

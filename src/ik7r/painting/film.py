@@ -217,9 +217,11 @@ class FilmStats:
 
     def lines(self, unit: str) -> list[str]:
         out = [f"film over the painted area ({self.area:.6g} {unit}^2): mean {self.mean:.3f} um, "
-               f"std/mean {100 * self.uniformity:.2f} %, min {self.minimum:.3f} um, max {self.maximum:.3f} um"]
+               f"std/mean {100 * self.uniformity:.2f} %, min {self.minimum:.3f} um, "
+               f"max {self.maximum:.3f} um"]
         if self.target is not None:
-            out.append(f"within {self.target:g} +- {self.tolerance:g} um: {100 * self.within:.1f} % of the area")
+            out.append(f"within {self.target:g} +- {self.tolerance:g} um: {100 * self.within:.1f} % "
+                       f"of the area")
         return out
 
 
@@ -240,7 +242,8 @@ def film_stats(part, thickness, faces=None, *, target: float | None = None,
         tol = 0.1 * target if tolerance is None else float(tolerance)
         within = float(np.sum(A[np.abs(T - target) <= tol]) / total)
         tolerance = tol
-    return FilmStats(mean, std, float(T[used].min()), float(T[used].max()), std / mean if mean > 0 else math.inf,
+    return FilmStats(mean, std, float(T[used].min()), float(T[used].max()),
+                     std / mean if mean > 0 else math.inf,
                      total, float(np.sum(A * T)), target, tolerance, within)
 
 

@@ -211,8 +211,8 @@ def plane_rate(gun: Gun, x, y) -> np.ndarray:
     u = 1.0 - y * y / p["a"] ** 2
     w = np.where(u > 0, 1.0 - x * x / (p["b"] ** 2 * np.where(u > 0, u, 1.0)), 0.0)
     ok = (u > 0) & (w > 0)
-    return np.where(ok, q0 * np.clip(u, 0, None) ** (p["beta1"] - 1) * np.clip(w, 0, None) ** (p["beta2"] - 1),
-                    0.0)
+    q = q0 * np.clip(u, 0, None) ** (p["beta1"] - 1) * np.clip(w, 0, None) ** (p["beta2"] - 1)
+    return np.where(ok, q, 0.0)
 
 
 def surface_rate(gun: Gun, points_tool, normals_tool) -> np.ndarray:
@@ -286,7 +286,8 @@ def load_stripe_csv(file) -> tuple[np.ndarray, np.ndarray]:
     fp = FilePath(file)
     if not fp.is_file():
         raise FileNotFoundError(f"no such stripe file: {fp}")
-    rows = [line for line in fp.read_text().splitlines() if line.strip() and not line.lstrip().startswith("#")]
+    rows = [line for line in fp.read_text().splitlines()
+            if line.strip() and not line.lstrip().startswith("#")]
     if not rows:
         raise ValueError(f"{fp}: empty; expected a header 'offset,thickness_um' and rows of numbers")
     header = [c.strip().lower() for c in rows[0].split(",")]
@@ -299,7 +300,8 @@ def load_stripe_csv(file) -> tuple[np.ndarray, np.ndarray]:
         try:
             data.append((float(cells[io]), float(cells[it])))
         except (IndexError, ValueError) as exc:
-            raise ValueError(f"{fp}, row {k}: expected numbers in offset and thickness_um; got {line!r}") from exc
+            raise ValueError(f"{fp}, row {k}: expected numbers in offset and thickness_um; "
+                             f"got {line!r}") from exc
     arr = np.array(data)
     if len(arr) < 5 or not np.all(np.isfinite(arr)):
         raise ValueError(f"{fp}: need at least 5 rows of finite numbers; got {len(arr)}")

@@ -328,10 +328,11 @@ def extend_pass(runs: list[PoseRun], *, overspray: float, step: float, spin: flo
                 add(*_bridge(run.positions[-1], run.rotations[-1], nxt.positions[0], nxt.rotations[0],
                              step, min_inner=0), True)
             else:
-                pa, ra = _straight(run.positions[-1], run.rotations[-1], overspray, step, spin) \
-                    if overspray > 0 else (np.empty((0, 3)), np.empty((0, 3, 3)))
-                pb, rb = _straight(nxt.positions[0], nxt.rotations[0], overspray, step, spin, backwards=True) \
-                    if overspray > 0 else (np.empty((0, 3)), np.empty((0, 3, 3)))
+                none = (np.empty((0, 3)), np.empty((0, 3, 3)))
+                pa, ra = (_straight(run.positions[-1], run.rotations[-1], overspray, step, spin)
+                          if overspray > 0 else none)
+                pb, rb = (_straight(nxt.positions[0], nxt.rotations[0], overspray, step, spin, backwards=True)
+                          if overspray > 0 else none)
                 add(pa, ra, True)
                 ea = (pa[-1], ra[-1]) if len(pa) else (run.positions[-1], run.rotations[-1])
                 sb = (pb[-1], rb[-1]) if len(pb) else (nxt.positions[0], nxt.rotations[0])
@@ -353,9 +354,11 @@ def _turn(p0, R0, p1, R1, step: float, spin: float):
     length = 1.6 * gap + 1e-12  # about the curve's length (a half circle is pi/2 gap)
     m = max(4, int(math.ceil(length / step - 1e-9)))
     t = np.linspace(0.0, 1.0, m + 1)[1:-1, None]
-    h00, h10, h01, h11 = 2 * t ** 3 - 3 * t ** 2 + 1, t ** 3 - 2 * t ** 2 + t, -2 * t ** 3 + 3 * t ** 2, t ** 3 - t ** 2
+    h00, h10 = 2 * t ** 3 - 3 * t ** 2 + 1, t ** 3 - 2 * t ** 2 + t
+    h01, h11 = -2 * t ** 3 + 3 * t ** 2, t ** 3 - t ** 2
     pos = h00 * p0 + h10 * m0 + h01 * p1 + h11 * m1
-    dh00, dh10, dh01, dh11 = 6 * t ** 2 - 6 * t, 3 * t ** 2 - 4 * t + 1, -6 * t ** 2 + 6 * t, 3 * t ** 2 - 2 * t
+    dh00, dh10 = 6 * t ** 2 - 6 * t, 3 * t ** 2 - 4 * t + 1
+    dh01, dh11 = -6 * t ** 2 + 6 * t, 3 * t ** 2 - 2 * t
     tangent = dh00 * p0 + dh10 * m0 + dh01 * p1 + dh11 * m1
     z = (1 - t) * R0[:, 2] + t * R1[:, 2]
     return pos, _frames(z, tangent, spin)
@@ -440,8 +443,8 @@ def surface_raster(part: Part, *, spacing: float, standoff: float, overspray: fl
     T = part.T_base_part
     pos = run.positions @ T[:3, :3].T + T[:3, 3]
     rot = np.einsum("ij,njk->nik", T[:3, :3], run.rotations)
-    from .paths import path_from_poses
     from ..rotations import transform
+    from .paths import path_from_poses
 
     base = path_from_poses(transform(rot, pos), rotation_radius=rotation_radius)
     name = (f"{part.name}: {len(cuts)} passes {spacing:g} {part.unit} apart, standoff {standoff:g}, "

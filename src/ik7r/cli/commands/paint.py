@@ -90,11 +90,15 @@ def add_parser(sub) -> None:
                    help="length per radian of orientation change in the path timing (default 100)")
     _common(f)
     f.set_defaults(run=run)
+    from ._paint_mesh import add_mesh_parser
+
+    add_mesh_parser(kinds, _common)
     p.set_defaults(run=_no_kind)
 
 
 def _no_kind(args) -> int:
-    raise CliError("paint: give the path: 'ik7r paint raster [...]' or 'ik7r paint path FILE.csv [...]'")
+    raise CliError("paint: give the path: 'ik7r paint raster [...]', 'ik7r paint path FILE.csv [...]' "
+                   "or 'ik7r paint mesh PART [...]'")
 
 
 def _pose(vals):
