@@ -203,10 +203,9 @@ def _read_mesh(fp: FilePath) -> tuple[np.ndarray, np.ndarray]:
         raise PartFileError(f"{fp}: not a readable {fp.suffix[1:].upper()} mesh ({exc})") from exc
     V = np.asarray(getattr(loaded, "vertices", np.empty((0, 3))), dtype=float)
     F = np.asarray(getattr(loaded, "faces", np.empty((0, 3))))
-    if len(V) == 0:
-        raise PartFileError(f"{fp}: no vertices; expected a triangle mesh (STL, OBJ or PLY)")
-    if F.ndim != 2 or len(F) == 0:
-        raise PartFileError(f"{fp}: no faces ({len(V)} vertices); a part must be a triangle mesh")
+    if F.ndim != 2 or len(F) == 0 or len(V) == 0:
+        raise PartFileError(f"{fp}: no faces ({len(V)} vertices kept); a part must be a triangle mesh "
+                            f"(STL, OBJ or PLY)")
     if not np.all(np.isfinite(V)):
         bad = int(np.flatnonzero(~np.all(np.isfinite(V), axis=1))[0])
         raise PartFileError(f"{fp}: vertex {bad} is not finite ({V[bad].tolist()})")

@@ -271,7 +271,7 @@ def pass_poses(sp: SurfacePass, *, standoff: float, forward: bool, direction=(1.
         travel = sign * np.cross(np.broadcast_to(c, nrm.shape), nrm)
         R = _frames(-nrm, travel, spin)
         runs.append(PoseRun(sp.points[sel] + standoff * nrm, R, np.ones(len(sel), dtype=bool)))
-    return runs
+    return runs if forward else runs[::-1]
 
 
 def _travel(R: np.ndarray, spin: float) -> np.ndarray:
