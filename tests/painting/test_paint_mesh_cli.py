@@ -1,0 +1,98 @@
+"""``ik7r paint mesh`` and ``ik7r gun fit`` end to end: files, film against the closed form of
+overlapping strokes, planning for a target, bad input."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from ik7r.cli import main
+from ik7r.painting.spray import load_gun
+
+
+def run(capsys, *argv):
+    code = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.fixture(scope="module")
+def panel_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("mesh")
+    code = main(["paint", "mesh", "panel", "--target-thickness", "15", "--tolerance-thickness", "1.5",
+                 "--out", str(out)])
+    return code, out
+
+
+def test_paint_mesh_writes_every_output(panel_run):
+    code, out = panel_run
+    assert code == 0
+    names = {p.name for p in out.iterdir()}
+    assert names == {"trajectory.csv", "thickness.csv", "thickness.png", "view.html", "report.txt", "report.json"}
+    header = (out / "trajectory.csv").read_text().splitlines()[0].split(",")
+    assert header[:4] == ["t", "x", "y", "z"] and header[-1] == "spray"
+    table = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
+    assert set(np.unique(table[:, -1])) == {0.0, 1.0}
+    assert (out / "thickness.csv").read_text().splitlines()[0] == "x,y,z,thickness_um"
+    th = np.loadtxt(out / "thickness.csv", delimiter=",", skiprows=1)
+    assert th.shape == (3111, 4)
+    assert (out / "thickness.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    html = (out / "view.html").read_text()
+    assert "<script>" in html and "src=" not in html and "http" not in html.replace("http-equiv", "")
+    rep = json.loads((out / "report.json").read_text())
+    assert {"film", "plan", "events", "gun", "part", "film_step", "trajectory"} <= set(rep)
+    assert "within 15 +- 1.5 um" in (out / "report.txt").read_text()
+
+
+def test_paint_mesh_film_and_plan(panel_run):
+    _, out = panel_run
+    rep = json.loads((out / "report.json").read_text())
+    film, plan = rep["film"], rep["plan"]
+    # planning: the mean over the part is the target (thickness ~ 1/speed at a fixed spacing)
+    assert film["mean_um"] == pytest.approx(15.0, rel=0.005)
+    assert plan["speed"] == pytest.approx(plan["trial_speed"] * plan["trial_mean_um"] / 15.0, rel=1e-9)
+    # in the middle of the panel the film is that of infinitely many Gaussian strokes D apart at
+    # the commanded speed: 2 pi sigma^2 q0 / (v D), within the ripple and the 0.5 % promise
+    gun = load_gun("bell")
+    sigma, q0, D, v = gun.params["sigma"], gun.peak_rate, plan["spacing"], plan["speed"]
+    expected = 2 * math.pi * sigma ** 2 * q0 / (v * D)
+    th = np.loadtxt(out / "thickness.csv", delimiter=",", skiprows=1)
+    centre = (np.abs(th[:, 0]) <= 100) & (np.abs(th[:, 1]) <= 100)
+    assert np.abs(th[centre, 3] / expected - 1).max() <= plan["ripple"] + 0.005
+    # the spacing chosen keeps the ripple within 1 % (the Gaussian formula agrees)
+    assert plan["ripple"] <= 0.01 and plan["ripple_gaussian_formula"] == pytest.approx(plan["ripple"], rel=0.05)
+    assert 0 < film["share_within"] <= 1 and film["min_um"] < film["mean_um"] < film["max_um"]
+
+
+def test_paint_mesh_bad_input(capsys, tmp_path):
+    bad = tmp_path / "junk.stl"
+    bad.write_text("solid junk\nnot a facet\n")
+    code, out, err = run(capsys, "paint", "mesh", bad, "--out", tmp_path / "o")
+    assert code == 2 and "junk.stl" in err and len(err.strip().splitlines()) == 1
+    code, out, err = run(capsys, "paint", "mesh", "panel", "--duration", "20", "--out", tmp_path / "o")
+    assert code == 2 and "--speed" in err
+    code, out, err = run(capsys, "paint", "mesh", "nothing-here", "--out", tmp_path / "o")
+    assert code == 2 and "nothing-here" in err
+    code, out, err = run(capsys, "paint", "mesh", "panel", "--gun", tmp_path / "gun.toml", "--out", tmp_path / "o")
+    assert code == 2 and "gun.toml" in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_gun_fit_command(capsys, tmp_path):
+    sigma, q0, v = 25.0, 80.0, 300.0
+    y = np.linspace(-100, 100, 81)
+    T = math.sqrt(2 * math.pi) * sigma * q0 / v * np.exp(-(y - 3.0) ** 2 / (2 * sigma ** 2))
+    fp = tmp_path / "stripe.csv"
+    fp.write_text("offset,thickness_um\n" + "\n".join(f"{a:.17g},{b:.17g}" for a, b in zip(y, T)) + "\n")
+    code, out, err = run(capsys, "gun", "fit", fp, "--model", "gaussian", "--speed", v, "--standoff", 220)
+    assert code == 0, err
+    assert "residual rms" in out
+    gun = load_gun(tmp_path / "stripe.toml")
+    assert gun.model == "gaussian" and gun.standoff == 220.0
+    assert gun.params["sigma"] == pytest.approx(sigma, rel=1e-6) and gun.peak_rate == pytest.approx(q0, rel=1e-6)
+    fp.write_text("x,thickness\n1,2\n")
+    code, out, err = run(capsys, "gun", "fit", fp, "--model", "beta", "--speed", v, "--standoff", 220)
+    assert code == 2 and "offset" in err
