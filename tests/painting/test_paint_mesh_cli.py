@@ -96,3 +96,25 @@ def test_gun_fit_command(capsys, tmp_path):
     fp.write_text("x,thickness\n1,2\n")
     code, out, err = run(capsys, "gun", "fit", fp, "--model", "beta", "--speed", v, "--standoff", 220)
     assert code == 2 and "offset" in err
+
+
+def test_film_instants_follow_the_step_rule():
+    import ik7r
+    from ik7r.painting.film import film_step
+    from ik7r.painting.mesh import paint_mesh
+    from ik7r.painting.parts import builtin_part
+
+    robot = ik7r.load_robot()
+    r = paint_mesh(robot, builtin_part("panel", cell=20.0), spacing=100.0, speed=600.0)
+    poses, tr = r.poses, r.program.trajectory
+    h = film_step(r.gun)
+    assert r.step == h
+    # the poses are the forward kinematics of the interpolated joints, in the part frame
+    T = np.linalg.inv(r.part.T_base_part) @ robot.fk(tr.evaluate(poses.t)[0])
+    np.testing.assert_allclose(poses.T_part_tool, T, atol=1e-9)
+    # on sprayed intervals the pattern centre at the reference standoff moves at most h
+    c = T[:, :3, 3] + r.gun.standoff * T[:, :3, 2]
+    move = np.linalg.norm(np.diff(c, axis=0), axis=1)
+    assert move[poses.sprayed].max() <= h * (1 + 1e-3)
+    # the gun is on for the sprayed length at the commanded speed
+    assert poses.spray_time == pytest.approx(r.plan["sprayed_length"] / 600.0, rel=1e-3)

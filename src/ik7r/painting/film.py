@@ -150,9 +150,19 @@ def gun_poses(robot, trajectory, path, T_base_part, gun: Gun, *, step: float | N
         for k in (0, 1):
             ck = c0 + g.reach * T0[:, :3, k]
             move = np.maximum(move, np.linalg.norm(np.diff(ck, axis=0), axis=1))
-    n = np.maximum(1, np.ceil(move / h - 1e-9)).astype(int)
-    f = [np.arange(k) / k for k in n]
-    t = np.concatenate([t0[i] + fi * (t0[i + 1] - t0[i]) for i, fi in enumerate(f)] + [t0[-1:]])
+    # between consecutive spray switches, instants at equal footprint moves of at most h
+    s_cum = np.concatenate([[0.0], np.cumsum(move)])
+    cuts = np.unique(np.concatenate([[t0[0], t0[-1]], _t_of_u(trajectory, switch_u)]))
+    pieces = []
+    for ta, tb in zip(cuts[:-1], cuts[1:]):
+        sa, sb = np.interp([ta, tb], t0, s_cum)
+        on = bool(path.sprayed(np.clip(_u_of_t(trajectory, np.array([0.5 * (ta + tb)])), 0.0, path.u[-1]))[0])
+        n = max(1, int(math.ceil((sb - sa) / h - 1e-9))) if on else 1
+        # monotone in s; where the footprint does not move, spread evenly in time instead
+        ts = np.interp(np.linspace(sa, sb, n + 1), s_cum, t0) if sb > sa else np.linspace(ta, tb, n + 1)
+        ts[0], ts[-1] = ta, tb
+        pieces.append(ts[:-1])
+    t = np.unique(np.concatenate(pieces + [t0[-1:]]))
     T = poses(t)
     mid = 0.5 * (t[1:] + t[:-1])
     sprayed = path.sprayed(np.clip(_u_of_t(trajectory, mid), 0.0, path.u[-1]))
