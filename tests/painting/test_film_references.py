@@ -198,7 +198,8 @@ def test_curved_part_against_brute_force():
 
     def poses_of_t(t):  # a straight stroke at constant height, gun down
         return _poses(lambda t: np.broadcast_to(DOWN, (len(t), 3, 3)),
-                      lambda t: np.column_stack([-250 + 500 * t, np.full(len(t), 20.0), np.full(len(t), 200.0)]),
+                      lambda t: np.column_stack([-250 + 500 * t, np.full(len(t), 20.0),
+                                                 np.full(len(t), 200.0)]),
                       t)
 
     h = film_step(gun)

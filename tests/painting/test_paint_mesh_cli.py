@@ -31,7 +31,8 @@ def test_paint_mesh_writes_every_output(panel_run):
     code, out = panel_run
     assert code == 0
     names = {p.name for p in out.iterdir()}
-    assert names == {"trajectory.csv", "thickness.csv", "thickness.png", "view.html", "report.txt", "report.json"}
+    assert names == {"trajectory.csv", "thickness.csv", "thickness.png", "view.html", "report.txt",
+                     "report.json"}
     header = (out / "trajectory.csv").read_text().splitlines()[0].split(",")
     assert header[:4] == ["t", "x", "y", "z"] and header[-1] == "spray"
     table = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
@@ -63,7 +64,8 @@ def test_paint_mesh_film_and_plan(panel_run):
     centre = (np.abs(th[:, 0]) <= 100) & (np.abs(th[:, 1]) <= 100)
     assert np.abs(th[centre, 3] / expected - 1).max() <= plan["ripple"] + 0.005
     # the spacing chosen keeps the ripple within 1 % (the Gaussian formula agrees)
-    assert plan["ripple"] <= 0.01 and plan["ripple_gaussian_formula"] == pytest.approx(plan["ripple"], rel=0.05)
+    assert plan["ripple"] <= 0.01
+    assert plan["ripple_gaussian_formula"] == pytest.approx(plan["ripple"], rel=0.05)
     assert 0 < film["share_within"] <= 1 and film["min_um"] < film["mean_um"] < film["max_um"]
 
 
@@ -76,7 +78,8 @@ def test_paint_mesh_bad_input(capsys, tmp_path):
     assert code == 2 and "--speed" in err
     code, out, err = run(capsys, "paint", "mesh", "nothing-here", "--out", tmp_path / "o")
     assert code == 2 and "nothing-here" in err
-    code, out, err = run(capsys, "paint", "mesh", "panel", "--gun", tmp_path / "gun.toml", "--out", tmp_path / "o")
+    code, out, err = run(capsys, "paint", "mesh", "panel", "--gun", tmp_path / "gun.toml",
+                         "--out", tmp_path / "o")
     assert code == 2 and "gun.toml" in err
     assert not (tmp_path / "o").exists()
 
@@ -92,7 +95,8 @@ def test_gun_fit_command(capsys, tmp_path):
     assert "residual rms" in out
     gun = load_gun(tmp_path / "stripe.toml")
     assert gun.model == "gaussian" and gun.standoff == 220.0
-    assert gun.params["sigma"] == pytest.approx(sigma, rel=1e-6) and gun.peak_rate == pytest.approx(q0, rel=1e-6)
+    assert gun.params["sigma"] == pytest.approx(sigma, rel=1e-6)
+    assert gun.peak_rate == pytest.approx(q0, rel=1e-6)
     fp.write_text("x,thickness\n1,2\n")
     code, out, err = run(capsys, "gun", "fit", fp, "--model", "beta", "--speed", v, "--standoff", 220)
     assert code == 2 and "offset" in err

@@ -95,8 +95,8 @@ def test_panel_raster_geometry():
         # each pass runs from overspray before the edge to overspray after it, spray on
         assert P[sel, 0].min() == pytest.approx(-250 - over) and P[sel, 0].max() == pytest.approx(250 + over)
         # tool x along the travel: +x on even passes, -x on odd ones
-        np.testing.assert_allclose(R[sel][:, :, 0], np.tile([1.0 if k % 2 == 0 else -1.0, 0, 0], (sel.sum(), 1)),
-                                   atol=1e-12)
+        x_travel = [1.0 if k % 2 == 0 else -1.0, 0, 0]
+        np.testing.assert_allclose(R[sel][:, :, 0], np.tile(x_travel, (sel.sum(), 1)), atol=1e-12)
     # the sprayed length is the passes' and nothing else; turns and approach are off
     assert sprayed_length(path) == pytest.approx(10 * (500 + 2 * over), rel=1e-9)
     seg = _seg_on(path)
@@ -169,7 +169,8 @@ def test_holes_are_crossed_with_the_spray_off():
     assert np.all(~seg[through & (np.abs(mid[:, 0]) < 100 - over - 1e-6)])
 
 
-@pytest.mark.parametrize("robot_name, origin", [("paper", (1100.0, 0.0, 0.0)), ("irb5400", (1600.0, 0.0, 500.0))])
+@pytest.mark.parametrize("robot_name, origin",
+                         [("paper", (1100.0, 0.0, 0.0)), ("irb5400", (1600.0, 0.0, 500.0))])
 @pytest.mark.parametrize("part_name", ["panel", "hood"])
 def test_builtin_parts_are_reached(robot_name, origin, part_name):
     robot = ik7r.load_robot(robot_name)

@@ -57,13 +57,18 @@ def test_plane_rate_matches_the_formulas(gun):
 def test_stroke_profile_closed_forms_against_quadrature(gun):
     speed = 400.0
     along = gun.params.get("b", gun.reach)
-    for y in np.linspace(0, 0.98 * (gun.params.get("a", gun.reach) if gun.model != "gaussian" else 4 * 30), 9):
+    top = gun.params.get("a", gun.reach) if gun.model != "gaussian" else 4 * 30
+    for y in np.linspace(0, 0.98 * top, 9):
         if gun.model == "gaussian":  # the closed form is the uncut Gaussian's
             s = gun.params["sigma"]
-            num = quad(lambda x: gun.peak_rate * math.exp(-(x * x + y * y) / (2 * s * s)), -np.inf, np.inf)[0]
-            num /= speed
+
+            def f(x, y=y, s=s):
+                return gun.peak_rate * math.exp(-(x * x + y * y) / (2 * s * s))
+
+            num = quad(f, -np.inf, np.inf)[0] / speed
         else:
-            num = quad(lambda x: _plane_reference(gun, x, y), -along, along, limit=200, epsabs=1e-10)[0] / speed
+            num = quad(lambda x, y=y: _plane_reference(gun, x, y), -along, along, limit=200,
+                       epsabs=1e-10)[0] / speed
         assert stroke_profile(gun, y, speed) == pytest.approx(num, rel=1e-6, abs=1e-9 * gun.peak_rate)
 
 
@@ -130,7 +135,8 @@ def test_bad_gun_files_name_the_file(tmp_path, text, words):
 def _synthetic_stripe(gun, speed, y, rng, noise):
     """Film across a stroke by quadrature of the plane model (not the closed form)."""
     along = gun.params.get("b", gun.reach)
-    T = np.array([quad(lambda x: _plane_reference(gun, x, yy), -along, along, limit=200)[0] for yy in y]) / speed
+    T = np.array([quad(lambda x, yy=yy: _plane_reference(gun, x, yy), -along, along, limit=200)[0]
+                  for yy in y]) / speed
     return T + noise * T.max() * rng.normal(size=len(T))
 
 

@@ -276,7 +276,7 @@ class StripeFit:
     n: int
 
     def report(self) -> str:
-        return (f"fitted {self.gun.describe()}\n"
+        return (f"fit: {self.gun.describe()}\n"
                 f"stripe centre at offset {self.centre:.4g} {self.gun.unit}; residual rms {self.rms:.4g} um "
                 f"({100 * self.rms_relative:.3g} % of the peak), max {self.max_abs:.4g} um, {self.n} points")
 
