@@ -122,3 +122,51 @@ def test_film_instants_follow_the_step_rule():
     assert move[poses.sprayed].max() <= h * (1 + 1e-3)
     # the gun is on for the sprayed length at the commanded speed
     assert poses.spray_time == pytest.approx(r.plan["sprayed_length"] / 600.0, rel=1e-3)
+
+
+_HARNESS = r"""
+const fs = require('fs'), vm = require('vm');
+const html = fs.readFileSync(process.argv[2], 'utf8');
+const js = html.match(/<script>([\s\S]*)<\/script>/)[1];
+const calls = [];
+const gl = new Proxy({}, {get(t, k) {
+  if (typeof k === 'string' && k === k.toUpperCase()) return k;
+  return (...a) => { calls.push(k); if (k === 'getAttribLocation') return 0;
+    if (k.startsWith('create') || k === 'getExtension') return {}; };
+}});
+function el() { return {style: {}, textContent: '', appendChild() {}, clientWidth: 800, clientHeight: 600,
+  getContext() { return gl; }}; }
+const els = {};
+const ctx = {atob, Float32Array, Uint32Array, Uint8Array, Math, window: {}, body: {},
+  document: {getElementById(id) { return els[id] || (els[id] = el()); }, createElement: el, body: {}}};
+vm.createContext(ctx);
+vm.runInContext(js + ';globalThis.M = matrix(); globalThis.C = ctr; globalThis.N = idx.length;', ctx);
+const M = ctx.M, c = ctx.C;
+function proj(p) {
+  const r = [0, 1, 2, 3].map(i => M[i] * p[0] + M[4 + i] * p[1] + M[8 + i] * p[2] + M[12 + i]);
+  return r.map(x => x / r[3]); }
+console.log(JSON.stringify({calls: calls.filter(k => k.startsWith('draw')), n: ctx.N,
+  centre: proj(c), up: proj([c[0], c[1], c[2] + 100])}));
+"""
+
+
+def test_view_html_script_runs_and_projects(panel_run, tmp_path):
+    """The embedded viewer runs (in node, with a stub WebGL context): it draws the part and the
+    lines, and its camera puts the scene's centre mid-screen with the base's z up."""
+    import shutil
+    import subprocess
+
+    node = shutil.which("node")
+    if node is None:
+        pytest.skip("node is not installed")
+    _, out = panel_run
+    js = tmp_path / "harness.js"
+    js.write_text(_HARNESS)
+    res = subprocess.run([node, str(js), str(out / "view.html")], capture_output=True, text=True,
+                         timeout=60)
+    assert res.returncode == 0, res.stderr
+    r = json.loads(res.stdout)
+    assert r["calls"] == ["drawElements", "drawArrays"]
+    assert r["n"] == 3 * 6000  # the panel's triangles
+    assert abs(r["centre"][0]) < 1e-6 and abs(r["centre"][1]) < 1e-6 and -1 < r["centre"][2] < 1
+    assert r["up"][1] > 0.01
