@@ -52,7 +52,7 @@ def add_mesh_parser(kinds, common) -> None:
                    help="gun file (TOML) or built-in gun (bell, beta, fan; default bell)")
     m.add_argument("--no-occlusion", action="store_true", help="ignore the part hiding itself from the gun")
     common(m)
-    m.set_defaults(run=run_mesh, duration=None)
+    m.set_defaults(run=run_mesh, duration=None)  # (the animation options of raster/path do not apply)
 
 
 def run_mesh(args) -> int:
@@ -70,6 +70,8 @@ def run_mesh(args) -> int:
     from .paint import _pose
 
     robot = load_cli_robot(args)
+    if args.tool is not None:
+        robot = robot.with_tool(_pose(args.tool))
     if args.duration is not None:
         raise CliError("paint mesh: the timing comes from --speed or --target-thickness, not --duration")
     if not 1 <= args.config <= 8:
