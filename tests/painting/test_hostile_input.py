@@ -57,7 +57,8 @@ def test_parts_refuse_non_finite_vertices(i, bad):
 
 def test_parts_refuse_bad_faces():
     V = np.eye(3)
-    for F in (np.array([[0, 1, 3]]), np.array([[0, 1]]), np.zeros((0, 3), dtype=int), np.array([[0.0, 1, 2]])):
+    bad = (np.array([[0, 1, 3]]), np.array([[0, 1]]), np.zeros((0, 3), dtype=int), np.array([[0.0, 1, 2]]))
+    for F in bad:
         with pytest.raises(ValueError, match="face"):
             Part(V, F, np.eye(4))
 
