@@ -170,3 +170,19 @@ def test_view_html_script_runs_and_projects(panel_run, tmp_path):
     assert r["n"] == 3 * 6000  # the panel's triangles
     assert abs(r["centre"][0]) < 1e-6 and abs(r["centre"][1]) < 1e-6 and -1 < r["centre"][2] < 1
     assert r["up"][1] > 0.01
+
+
+def test_units_everywhere_a_robot_in_metres_lays_the_same_film():
+    import ik7r
+    from ik7r.painting import load_part, paint_mesh
+    from ik7r.robotfile import robot_in_unit
+
+    mm = ik7r.load_robot()
+    m = robot_in_unit(mm, "m")
+    a = paint_mesh(mm, load_part("panel", unit="mm"), spacing=100.0, speed=600.0)
+    b = paint_mesh(m, load_part("panel", unit="m"), spacing=0.1, speed=0.6)
+    assert len(a.program.path) == len(b.program.path)
+    assert b.step == pytest.approx(a.step / 1000)
+    np.testing.assert_allclose(b.thickness, a.thickness, rtol=0, atol=1e-6 * a.thickness.max())
+    with pytest.raises(ValueError, match="mm"):
+        load_part("panel", part_unit="m")

@@ -17,6 +17,7 @@ import numpy as np
 
 from . import film as _film
 from .parts import Part, unit_scale
+from .paths import DEFAULT_STEP
 from .spray import Gun, load_gun
 from .surface import (
     DEFAULT_APPROACH,
@@ -209,7 +210,8 @@ def paint_mesh(robot, part: Part, *, gun="bell", spacing: float | None = None, s
         raise ValueError(f"target thickness must be a positive number of um; got {target_thickness!r}")
     faces = target_faces(part, view)
     path = surface_raster(part, spacing=spacing, standoff=standoff, overspray=overspray, approach=approach,
-                          direction=direction, view=view, spin=spin)
+                          direction=direction, view=view, spin=spin, step=DEFAULT_STEP * mm,
+                          rotation_radius=100.0 * mm)
     solution = solve_path(robot, path, config, seed, keep=keep, progress=progress)
     if not solution.feasible:
         raise PathNotFeasible(solution.events, solution)

@@ -179,6 +179,9 @@ def load_part(source, *, unit: str = "mm", part_unit: str | None = None, T_base_
         message names the file.
     """
     if isinstance(source, str) and source in BUILTIN_PARTS:
+        if part_unit not in (None, "mm"):
+            raise ValueError(f"the built-in part {source!r} is defined in mm; a part unit "
+                             f"({part_unit!r}) applies to mesh files")
         return builtin_part(source, unit=unit, T_base_part=T_base_part)
     fp = FilePath(source)
     if not fp.is_file():
