@@ -17,13 +17,13 @@ import time
 import numpy as np
 
 import ik7r
+from ik7r.geometry.rotations import invert
 from ik7r.painting import solve_path
 from ik7r.painting.film import film_step, film_thickness, gun_poses, part_film, poses_from_samples
 from ik7r.painting.mesh import time_at_speed
 from ik7r.painting.parts import builtin_part
 from ik7r.painting.spray import load_gun, surface_rate
 from ik7r.painting.surface import surface_raster
-from ik7r.rotations import invert
 
 BUDGET_S = 10.0
 

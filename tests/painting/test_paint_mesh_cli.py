@@ -175,7 +175,7 @@ def test_view_html_script_runs_and_projects(panel_run, tmp_path):
 def test_units_everywhere_a_robot_in_metres_lays_the_same_film():
     import ik7r
     from ik7r.painting import load_part, paint_mesh
-    from ik7r.robotfile import robot_in_unit
+    from ik7r.robot import robot_in_unit
 
     mm = ik7r.load_robot()
     m = robot_in_unit(mm, "m")

@@ -15,6 +15,7 @@ poly       the residual polynomial, its certified root isolation, the Bernstein 
 complete   every solution of one pose
 select     indicators, joint limits, nearest to a seed; fused single and batch calls
 track      warm-started paths
+film       paint film thickness per mesh vertex over gun poses (with occlusion)
 validate   pose validation inside the compiled batch loops
 jit        the one place that knows numba
 ========== ===========================================================================
@@ -35,12 +36,14 @@ _EXPORTS = {
     "frame07": "complete",
     "all_rows": "select", "config_rows": "select", "ik_all_one": "select", "ik_one": "select",
     "track": "track",
+    "film_kernel": "film",
     "validate_pose": "validate", "validate_poses": "validate",
 }
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, _MODULES)
 __all__ = [
     "bernstein_tables",
+    "film_kernel",
     "JIT_ENABLED",
     "all_rows",
     "arm_ik",

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..rotations import invert
+from ..geometry.rotations import invert
 from .spray import Gun, plane_rate, stroke_profile
 
 __all__ = ["GunPoses", "poses_from_samples", "gun_poses", "film_step", "film_thickness", "part_film",
@@ -176,7 +176,7 @@ def film_thickness(vertices, normals, faces, poses: GunPoses, gun: Gun, *, occlu
 
     ``occlusion=False`` skips the depth buffer (every point facing the gun gets paint).
     """
-    from ._film_kernel import film_kernel
+    from .._kernels import film_kernel
 
     V = np.ascontiguousarray(vertices, dtype=float)
     N = np.ascontiguousarray(normals, dtype=float)

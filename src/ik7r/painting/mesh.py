@@ -15,8 +15,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..units import unit_scale
 from . import film as _film
-from .parts import Part, unit_scale
+from .parts import Part
 from .paths import DEFAULT_STEP
 from .spray import Gun, load_gun
 from .surface import (

@@ -24,27 +24,17 @@ from pathlib import Path as FilePath
 
 import numpy as np
 
-from ..checks import check_transforms
 from ..errors import PartFileError
-from ..rotations import transform
+from ..geometry.checks import check_transforms
+from ..geometry.rotations import transform
+from ..units import unit_scale
 
-__all__ = ["Part", "load_part", "builtin_part", "BUILTIN_PARTS", "DEFAULT_PART_ORIGIN", "MESH_SUFFIXES",
-           "unit_scale"]
+__all__ = ["Part", "load_part", "builtin_part", "BUILTIN_PARTS", "DEFAULT_PART_ORIGIN", "MESH_SUFFIXES"]
 
 #: Mesh file types read by :func:`load_part`.
 MESH_SUFFIXES = (".stl", ".obj", ".ply")
-#: Metres per length unit accepted for parts and guns.
-_METRES = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "in": 0.0254}
 #: Where the built-in parts are placed by default in the base frame (mm, converted to the unit).
 DEFAULT_PART_ORIGIN = (1100.0, 0.0, 0.0)
-
-
-def unit_scale(from_unit: str, to_unit: str) -> float:
-    """Factor turning lengths in ``from_unit`` into ``to_unit`` (``m``, ``cm``, ``mm``, ``in``)."""
-    for u in (from_unit, to_unit):
-        if u not in _METRES:
-            raise ValueError(f"unknown length unit {u!r}; expected one of {sorted(_METRES)}")
-    return _METRES[from_unit] / _METRES[to_unit]
 
 
 @dataclass(frozen=True, eq=False)

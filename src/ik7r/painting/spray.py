@@ -39,7 +39,7 @@ from pathlib import Path as FilePath
 import numpy as np
 
 from ..errors import GunFileError
-from .parts import unit_scale
+from ..units import unit_scale
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -52,7 +52,7 @@ __all__ = ["Gun", "MODELS", "BUILTIN_GUNS", "load_gun", "gun_from_toml", "gun_to
 #: Model name -> its shape parameters (lengths first).
 MODELS = {"gaussian": ("sigma",), "beta": ("radius", "beta"), "double-beta": ("a", "b", "beta1", "beta2")}
 _LENGTHS = {"sigma", "radius", "a", "b"}
-#: Built-in gun names -> files in the package data (``ik7r/data/guns``).
+#: Built-in gun names -> files in the package data (``ik7r/painting/data/guns``).
 BUILTIN_GUNS = {"bell": "bell.toml", "beta": "beta.toml", "fan": "fan.toml"}
 #: The gun ``ik7r paint mesh`` uses by default.
 DEFAULT_GUN = "bell"
@@ -185,7 +185,7 @@ def load_gun(source=DEFAULT_GUN) -> Gun:
     if isinstance(source, Gun):
         return source
     if isinstance(source, str) and source in BUILTIN_GUNS:
-        text = resources.files("ik7r").joinpath("data", "guns", BUILTIN_GUNS[source]).read_text()
+        text = resources.files("ik7r.painting").joinpath("data", "guns", BUILTIN_GUNS[source]).read_text()
         return gun_from_toml(text, source=f"built-in gun {source!r}")
     fp = FilePath(source)
     if not fp.is_file():

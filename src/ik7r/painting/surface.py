@@ -443,7 +443,7 @@ def surface_raster(part: Part, *, spacing: float, standoff: float, overspray: fl
     T = part.T_base_part
     pos = run.positions @ T[:3, :3].T + T[:3, 3]
     rot = np.einsum("ij,njk->nik", T[:3, :3], run.rotations)
-    from ..rotations import transform
+    from ..geometry.rotations import transform
     from .paths import path_from_poses
 
     base = path_from_poses(transform(rot, pos), rotation_radius=rotation_radius)

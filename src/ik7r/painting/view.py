@@ -31,7 +31,7 @@ def _limits(thickness, faces_mask, part):
 
 def write_thickness_csv(part, thickness, file) -> FilePath:
     """``x,y,z,thickness_um`` per vertex, in the part frame and the part's file unit."""
-    from .parts import unit_scale
+    from ..units import unit_scale
 
     fp = FilePath(file)
     s = unit_scale(part.unit, part.file_unit)
@@ -111,7 +111,7 @@ def write_view_html(out, robot, part, thickness, trajectory, path, *, faces=None
     }
     from importlib import resources
 
-    template = resources.files("ik7r").joinpath("data", "view.html").read_text()
+    template = resources.files("ik7r.painting").joinpath("data", "view.html").read_text()
     html = template.replace("/*DATA*/", json.dumps(data))
     fp = FilePath(out)
     fp.write_text(html)

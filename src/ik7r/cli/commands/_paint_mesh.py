@@ -8,7 +8,7 @@ Writes into ``--out``: ``trajectory.csv`` (the columns of ``paint raster`` plus 
 
 from __future__ import annotations
 
-from ..cli import CliError, NoSolution
+from ..errors import CliError, NoSolution
 
 
 def add_mesh_parser(kinds, common) -> None:
@@ -61,12 +61,13 @@ def run_mesh(args) -> int:
 
     import numpy as np
 
-    from .. import painting as P
-    from ..cli import load_cli_robot
-    from ..painting import mesh as M
-    from ..painting import view as W
-    from ..painting.parts import BUILTIN_PARTS, load_part, unit_scale
-    from ..painting.spray import load_gun
+    from ... import painting as P
+    from ...painting import mesh as M
+    from ...painting import view as W
+    from ...painting.parts import BUILTIN_PARTS, load_part
+    from ...painting.spray import load_gun
+    from ...units import unit_scale
+    from ._common import load_cli_robot
     from .paint import _pose
 
     robot = load_cli_robot(args)

@@ -8,7 +8,7 @@ fitted parameters and the fit's residual. Exit status 2 on bad input.
 
 from __future__ import annotations
 
-from ..cli import CliError
+from ..errors import CliError
 
 
 def add_parser(sub) -> None:
@@ -43,7 +43,7 @@ def _no_kind(args) -> int:
 def run_fit(args) -> int:
     from pathlib import Path as FilePath
 
-    from ..painting.spray import fit_stripe, gun_to_toml, load_stripe_csv
+    from ...painting.spray import fit_stripe, gun_to_toml, load_stripe_csv
 
     src = FilePath(args.stripe)
     try:

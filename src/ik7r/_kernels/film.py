@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import njit
+from .jit import njit
 
 #: Points closer to the tool's x-y plane than this (length unit) are ignored (behind the tip).
 Z_MIN = 1e-9
