@@ -19,39 +19,44 @@ def add_mesh_parser(kinds, common) -> None:
                     "solve the trajectory, integrate the gun's film over it and report it. PART is a "
                     "mesh file (STL, OBJ, PLY) or a built-in part (panel, hood). Lengths in the robot's "
                     "unit unless said; speeds in unit/s.")
-    m.add_argument("part", metavar="PART",
-                   help="mesh file (.stl, .obj, .ply) or built-in part name (panel, hood)")
-    m.add_argument("--frame", nargs=6, type=float, default=None, metavar=("X", "Y", "Z", "R", "P", "YAW"),
-                   help="part frame in the base frame: position (length unit), rpy (deg); default for the "
-                        "built-in parts a place the robot reaches (paper robot: 1100 0 0 mm; IRB 5400: "
-                        "1600 0 500 mm), for a file the base frame")
-    m.add_argument("--part-unit", default=None, metavar="U", help="length unit of the mesh file "
-                   "(m, cm, mm, in; default the robot's)")
-    m.add_argument("--direction", nargs=3, type=float, default=(1.0, 0.0, 0.0), metavar=("X", "Y", "Z"),
-                   help="pass direction in the part frame (default 1 0 0)")
-    m.add_argument("--view", nargs=3, type=float, default=(0.0, 0.0, 1.0), metavar=("X", "Y", "Z"),
-                   help="side of the part the gun sprays from, in the part frame (default 0 0 1)")
-    m.add_argument("--spacing", type=float, default=None, metavar="D",
-                   help="distance between passes (default: the largest multiple of 5 mm with a "
-                        "ripple <= 1 %%)")
-    m.add_argument("--standoff", type=float, default=None, metavar="D",
-                   help="gun tip to surface along the normal (default the gun's reference standoff)")
-    m.add_argument("--overspray", type=float, default=None, metavar="D",
-                   help="pass extension past the part's edges, spray on (default 60 mm)")
-    m.add_argument("--approach", type=float, default=None, metavar="D",
-                   help="length of the approach and retract, spray off (default 150 mm)")
-    m.add_argument("--spin", type=float, default=0.0, metavar="DEG",
-                   help="tool x turned about the gun axis from the direction of travel (deg, default 0)")
-    m.add_argument("--speed", type=float, default=None, metavar="V",
-                   help="commanded gun speed (unit/s; default 500 mm/s, or chosen for --target-thickness)")
-    m.add_argument("--target-thickness", type=float, default=None, metavar="UM",
-                   help="mean film wanted (um): the speed is chosen for it")
-    m.add_argument("--tolerance-thickness", type=float, default=None, metavar="UM",
-                   help="band around the target for the 'share within' statistic (um; default 10 %% of it)")
-    m.add_argument("--gun", default="bell", metavar="FILE|NAME",
-                   help="gun file (TOML) or built-in gun (bell, beta, fan; default bell)")
-    m.add_argument("--no-occlusion", action="store_true", help="ignore the part hiding itself from the gun")
-    common(m)
+    common(m)  # first: an option the common group already has (e.g. a --speed of the new timing) is kept
+
+    def add(*flags, **kw):
+        if not any(f in m._option_string_actions for f in flags):
+            m.add_argument(*flags, **kw)
+
+    add("part", metavar="PART",
+        help="mesh file (.stl, .obj, .ply) or built-in part name (panel, hood)")
+    add("--frame", nargs=6, type=float, default=None, metavar=("X", "Y", "Z", "R", "P", "YAW"),
+        help="part frame in the base frame: position (length unit), rpy (deg); default for the "
+             "built-in parts a place the robot reaches (paper robot: 1100 0 0 mm; IRB 5400: "
+             "1600 0 500 mm), for a file the base frame")
+    add("--part-unit", default=None, metavar="U", help="length unit of the mesh file "
+        "(m, cm, mm, in; default the robot's)")
+    add("--direction", nargs=3, type=float, default=(1.0, 0.0, 0.0), metavar=("X", "Y", "Z"),
+        help="pass direction in the part frame (default 1 0 0)")
+    add("--view", nargs=3, type=float, default=(0.0, 0.0, 1.0), metavar=("X", "Y", "Z"),
+        help="side of the part the gun sprays from, in the part frame (default 0 0 1)")
+    add("--spacing", type=float, default=None, metavar="D",
+        help="distance between passes (default: the largest multiple of 5 mm with a "
+             "ripple <= 1 %%)")
+    add("--standoff", type=float, default=None, metavar="D",
+        help="gun tip to surface along the normal (default the gun's reference standoff)")
+    add("--overspray", type=float, default=None, metavar="D",
+        help="pass extension past the part's edges, spray on (default 60 mm)")
+    add("--approach", type=float, default=None, metavar="D",
+        help="length of the approach and retract, spray off (default 150 mm)")
+    add("--spin", type=float, default=0.0, metavar="DEG",
+        help="tool x turned about the gun axis from the direction of travel (deg, default 0)")
+    add("--speed", type=float, default=None, metavar="V",
+        help="commanded gun speed (unit/s; default 500 mm/s, or chosen for --target-thickness)")
+    add("--target-thickness", type=float, default=None, metavar="UM",
+        help="mean film wanted (um): the speed is chosen for it")
+    add("--tolerance-thickness", type=float, default=None, metavar="UM",
+        help="band around the target for the 'share within' statistic (um; default 10 %% of it)")
+    add("--gun", default="bell", metavar="FILE|NAME",
+        help="gun file (TOML) or built-in gun (bell, beta, fan; default bell)")
+    add("--no-occlusion", action="store_true", help="ignore the part hiding itself from the gun")
     m.set_defaults(run=run_mesh, duration=None)  # (the animation options of raster/path do not apply)
 
 
