@@ -186,3 +186,25 @@ def test_units_everywhere_a_robot_in_metres_lays_the_same_film():
     np.testing.assert_allclose(b.thickness, a.thickness, rtol=0, atol=1e-6 * a.thickness.max())
     with pytest.raises(ValueError, match="mm"):
         load_part("panel", part_unit="m")
+
+
+def test_paint_mesh_from_a_file_in_metres_and_on_the_irb5400(capsys, tmp_path):
+    import trimesh
+
+    plate = trimesh.creation.box(extents=(0.4, 0.3, 0.01))  # a closed plate, in metres
+    fp = tmp_path / "plate.stl"
+    plate.export(fp)
+    out = tmp_path / "o"
+    code, stdout, err = run(capsys, "paint", "mesh", fp, "--part-unit", "m", "--frame", 1100, 0, -5, 0, 0, 0,
+                            "--speed", 600, "--no-plots", "--out", out)
+    assert code == 0, err
+    rep = json.loads((out / "report.json").read_text())
+    assert rep["part"]["painted_faces"] == 2  # the top of the box: the side the gun sees
+    assert rep["film"]["painted_area"] == pytest.approx(400 * 300, rel=1e-5)
+    th = np.loadtxt(out / "thickness.csv", delimiter=",", skiprows=1)
+    assert np.abs(th[:, :3]).max() == pytest.approx(0.2, rel=1e-6)  # written back in metres
+    out2 = tmp_path / "o2"
+    code, stdout, err = run(capsys, "--robot", "irb5400", "paint", "mesh", "hood", "--speed", 600,
+                            "--no-plots", "--out", out2)
+    assert code == 0, err
+    assert json.loads((out2 / "report.json").read_text())["film"]["mean_um"] > 0

@@ -181,3 +181,15 @@ def test_builtin_parts_are_reached(robot_name, origin, part_name):
     # every sample solved exactly: FK gives the path pose
     T = robot.fk(sol.q)
     np.testing.assert_allclose(T[:, :3, 3], path.positions, atol=1e-6)
+
+
+def test_pass_direction_in_the_part_frame():
+    part = builtin_part("panel", T_base_part=np.eye(4))
+    path = surface_raster(part, spacing=100, standoff=200, overspray=50, approach=100, direction=(0, 1, 0))
+    on = path.spray
+    xs = np.unique(np.round(path.positions[on, 0], 6))
+    np.testing.assert_allclose(xs, -200 + 100 * np.arange(5), atol=1e-9)  # ceil(500 / 100) passes across x
+    assert path.positions[on, 1].min() == pytest.approx(-350)
+    assert path.positions[on, 1].max() == pytest.approx(350)
+    with pytest.raises(ValueError, match="parallel"):
+        surface_raster(part, spacing=100, standoff=200, overspray=50, approach=100, direction=(0, 0, 1))
