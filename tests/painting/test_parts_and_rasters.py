@@ -193,3 +193,22 @@ def test_pass_direction_in_the_part_frame():
     assert path.positions[on, 1].max() == pytest.approx(350)
     with pytest.raises(ValueError, match="parallel"):
         surface_raster(part, spacing=100, standoff=200, overspray=50, approach=100, direction=(0, 0, 1))
+
+
+def test_surface_path_is_smooth_between_samples():
+    """The path between samples is a spline through them (no corner at each sample of a turn)."""
+    path = surface_raster(builtin_part("hood", T_base_part=np.eye(4)), spacing=60, standoff=200,
+                          overspray=40, approach=100)
+    P, R = path.at(path.u)
+    np.testing.assert_allclose(P, path.positions, atol=1e-9)
+    np.testing.assert_allclose(R, path.rotations, atol=1e-9)
+    # velocity just before and just after every interior sample: the same (C1), in a turn as well
+    eps = 1e-4
+    u = path.u[1:-1]
+    before = (path.at(u)[0] - path.at(u - eps)[0]) / eps
+    after = (path.at(u + eps)[0] - path.at(u)[0]) / eps
+    assert np.abs(after - before).max() < 1e-2
+    # whereas the polyline through the samples turns by a finite angle at the samples of a turn
+    d = np.diff(path.positions, axis=0)
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    assert np.degrees(np.arccos(np.clip(np.sum(d[1:] * d[:-1], axis=1), -1, 1))).max() > 5

@@ -18,7 +18,8 @@ composition of stages that each take and return plain data (usable on their own)
 5. :func:`extend_pass` -- ``overspray`` past each edge of the part, spray on, straight along the
    travel direction, so the gun is at speed over the whole part; gaps narrower than twice the
    overspray are crossed with the spray on, wider ones with it off;
-6. :func:`link_passes` -- turnarounds between passes (a smooth U turn, spray off), a straight
+6. :func:`link_passes` -- turnarounds between passes (a U turn with zero curvature at its ends,
+   spray off), a straight
    approach (lead-in) before the first pass and a retract (lead-out) after the last, spray off.
 
 The result is a :class:`~ik7r.painting.Path` in the robot's base frame whose ``spray`` flags
@@ -36,8 +37,8 @@ from .parts import Part
 from .paths import DEFAULT_STEP, Path
 
 __all__ = ["SurfacePass", "PoseRun", "target_faces", "smoothed_normals", "slice_surface", "pass_poses",
-           "extend_pass", "link_passes", "surface_raster", "sprayed_length", "DEFAULT_SURFACE_SPACING",
-           "DEFAULT_STANDOFF", "DEFAULT_OVERSPRAY", "DEFAULT_APPROACH"]
+           "extend_pass", "link_passes", "surface_raster", "smooth_geometry", "sprayed_length",
+           "DEFAULT_SURFACE_SPACING", "DEFAULT_STANDOFF", "DEFAULT_OVERSPRAY", "DEFAULT_APPROACH"]
 
 #: Defaults in mm (converted to the part's unit): distance between passes, gun standoff,
 #: overspray past the part's edges, length of the approach and retract.
@@ -345,22 +346,26 @@ def extend_pass(runs: list[PoseRun], *, overspray: float, step: float, spin: flo
 
 
 def _turn(p0, R0, p1, R1, step: float, spin: float):
-    """Interior poses of a U turn from (p0, R0) to (p1, R1): a cubic Hermite curve leaving along
-    the first travel direction and arriving along the second (tangent length twice the gap, so
-    the loop reaches half the gap past the ends); gun axis interpolated, tool x along the curve."""
+    """Interior poses of a U turn from (p0, R0) to (p1, R1): a quintic Hermite curve leaving along
+    the first travel direction and arriving along the second with zero curvature at both ends
+    (tangent length twice the gap: the loop reaches half the gap past the ends), so the tool's
+    turn about its axis starts and ends at rest; gun axis blended with a smootherstep, tool x
+    along the curve."""
     gap = float(np.linalg.norm(p1 - p0))
     L = 2.0 * gap
     m0, m1 = L * _travel(R0, spin), L * _travel(R1, spin)
     length = 1.6 * gap + 1e-12  # about the curve's length (a half circle is pi/2 gap)
     m = max(4, int(math.ceil(length / step - 1e-9)))
     t = np.linspace(0.0, 1.0, m + 1)[1:-1, None]
-    h00, h10 = 2 * t ** 3 - 3 * t ** 2 + 1, t ** 3 - 2 * t ** 2 + t
-    h01, h11 = -2 * t ** 3 + 3 * t ** 2, t ** 3 - t ** 2
-    pos = h00 * p0 + h10 * m0 + h01 * p1 + h11 * m1
-    dh00, dh10 = 6 * t ** 2 - 6 * t, 3 * t ** 2 - 4 * t + 1
-    dh01, dh11 = -6 * t ** 2 + 6 * t, 3 * t ** 2 - 2 * t
-    tangent = dh00 * p0 + dh10 * m0 + dh01 * p1 + dh11 * m1
-    z = (1 - t) * R0[:, 2] + t * R1[:, 2]
+    t2, t3, t4, t5 = t ** 2, t ** 3, t ** 4, t ** 5
+    h0, h1 = 1 - 10 * t3 + 15 * t4 - 6 * t5, t - 6 * t3 + 8 * t4 - 3 * t5
+    h2, h3 = 10 * t3 - 15 * t4 + 6 * t5, -4 * t3 + 7 * t4 - 3 * t5
+    pos = h0 * p0 + h1 * m0 + h2 * p1 + h3 * m1
+    d0, d1 = -30 * t2 + 60 * t3 - 30 * t4, 1 - 18 * t2 + 32 * t3 - 15 * t4
+    d2, d3 = 30 * t2 - 60 * t3 + 30 * t4, -12 * t2 + 28 * t3 - 15 * t4
+    tangent = d0 * p0 + d1 * m0 + d2 * p1 + d3 * m1
+    w = h2  # smootherstep 10t^3 - 15t^4 + 6t^5: the axis turns from rest to rest
+    z = (1 - w) * R0[:, 2] + w * R1[:, 2]
     return pos, _frames(z, tangent, spin)
 
 
@@ -449,7 +454,27 @@ def surface_raster(part: Part, *, spacing: float, standoff: float, overspray: fl
     base = path_from_poses(transform(rot, pos), rotation_radius=rotation_radius)
     name = (f"{part.name}: {len(cuts)} passes {spacing:g} {part.unit} apart, standoff {standoff:g}, "
             f"overspray {overspray:g}, spin {math.degrees(spin):g} deg")
-    return Path(base.positions, base.rotations, base.u, None, name, run.spray)
+    geometry = smooth_geometry(base.u, base.positions, base.rotations)
+    return Path(base.positions, base.rotations, base.u, geometry, name, run.spray)
+
+
+def smooth_geometry(u, positions, rotations):
+    """``u (M,) -> (positions (M, 3), rotations (M, 3, 3))`` through the samples: a cubic spline of
+    the positions and a rotation spline (scipy's, continuous angular acceleration), so that the
+    joints can follow the path between samples without corners (linear pieces would turn by a
+    finite angle at every sample of a curve)."""
+    from scipy.interpolate import CubicSpline
+    from scipy.spatial.transform import Rotation, RotationSpline
+
+    u = np.asarray(u, dtype=float)
+    pos = CubicSpline(u, np.asarray(positions, dtype=float), axis=0)
+    rot = RotationSpline(u, Rotation.from_matrix(np.asarray(rotations, dtype=float)))
+
+    def geometry(x):
+        x = np.atleast_1d(np.asarray(x, dtype=float))
+        return pos(x), rot(x).as_matrix().reshape(-1, 3, 3)
+
+    return geometry
 
 
 def sprayed_length(path: Path) -> float:
