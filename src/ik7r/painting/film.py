@@ -226,9 +226,9 @@ class FilmStats:
     within: float | None = None
 
     def lines(self, unit: str) -> list[str]:
-        out = [f"film over the painted area ({self.area:.6g} {unit}^2): mean {self.mean:.3f} um, "
-               f"std/mean {100 * self.uniformity:.2f} %, min {self.minimum:.3f} um, "
-               f"max {self.maximum:.3f} um"]
+        out = [f"film over the painted area ({self.area:.6g} {unit}^2): mean {self.mean:.2f} um, "
+               f"std/mean {100 * self.uniformity:.1f} %, min {self.minimum:.2f} um, "
+               f"max {self.maximum:.2f} um"]
         if self.target is not None:
             out.append(f"within {self.target:g} +- {self.tolerance:g} um: {100 * self.within:.1f} % "
                        f"of the area")
