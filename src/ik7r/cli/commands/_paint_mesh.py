@@ -111,7 +111,8 @@ def run_mesh(args) -> int:
     if not args.no_plots:
         written.append(W.plot_thickness(part, result.thickness, out / "thickness.png", faces=result.faces,
                                         direction=args.direction, view=args.view,
-                                        target=args.target_thickness, tolerance=result.stats.tolerance))
+                                        target=args.target_thickness, tolerance=result.stats.tolerance,
+                                        title=_title(part.name, result)))
         written.append(W.write_view_html(out / "view.html", result.program.robot, part, result.thickness, tr,
                                          path, faces=result.faces, postures=max(1, args.postures)))
     report = result.report()
@@ -121,3 +122,11 @@ def run_mesh(args) -> int:
     print(report)
     print("wrote " + ", ".join(str(w) for w in written))
     return 0
+
+
+def _title(name, result) -> str:
+    s = result.stats
+    within = "" if s.within is None else f", {100 * s.within:.0f} % within {s.target:g} +- {s.tolerance:g} um"
+    return (f"Film on {name}: mean {s.mean:.2f} um, std/mean {100 * s.uniformity:.1f} %{within}\n"
+            f"{result.gun.name} gun, {result.speed:.0f} {result.part.unit}/s, passes "
+            f"{result.plan['spacing']:g} {result.part.unit} apart")
