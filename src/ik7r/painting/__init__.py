@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..geometry.checks import check_transforms
+from .corners import DEFAULT_CORNER_ANGLE, blend_corners, find_corners
 from .events import (
     JOINT_LABELS,
     AccelerationLimit,
@@ -45,7 +46,6 @@ from .events import (
     WristCrossing,
     format_report,
 )
-from .corners import DEFAULT_CORNER_ANGLE, blend_corners, find_corners
 from .export import CSV_COLUMNS, trajectory_table, write_trajectory_csv
 from .interpolate import (
     DEFAULT_RAMP,

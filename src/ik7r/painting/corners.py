@@ -4,7 +4,7 @@ A path loaded from samples runs linearly between them, so every sample where the
 changes is a corner. Where it turns by more than :data:`DEFAULT_CORNER_ANGLE` the robot must
 either stop there (the timing stops at :func:`find_corners`) or leave the path within a zone
 around the corner: :func:`blend_corners` replaces the corner by the circular arc tangent to
-both segments at distance ``d = min(zone, 0.45 x the shorter segment)`` from the corner (the
+both sides at distance ``d = min(zone, 0.45 x the distance to the next corner)`` from it (the
 arc stays inside the zone; RAPID's ``zN`` blends within N mm the same way). The orientation
 turns (slerp) from the pose at the arc's start to the one at its end. The blended path keeps
 exact geometry (``Path.at`` on the lines and arcs), so the trajectory follows the arc.
@@ -55,8 +55,8 @@ def blend_corners(path: Path, zone: float, angle: float = DEFAULT_CORNER_ANGLE, 
     path : Path
         A sampled path (with exact geometry: returned unchanged).
     zone : float
-        Zone radius (> 0): the arc starts and ends at most this far from the corner (less where
-        a segment is short: 0.45 of the shorter adjacent segment).
+        Zone radius (> 0): the arc starts and ends this far from the corner along the path
+        (less where the next corner or the path's end is near: 0.45 of that distance).
     angle : float
         Corner threshold (rad).
     rotation_radius : float
@@ -77,41 +77,52 @@ def blend_corners(path: Path, zone: float, angle: float = DEFAULT_CORNER_ANGLE, 
         return path
     step = zone / 4.0 if step is None else float(step)
     P, R, spray = path.positions, path.rotations, path.spray
-    seg = np.linalg.norm(np.diff(P, axis=0), axis=1)
-    corner = set(int(i) for i in idx)
+    s = path.arc_length
+    ends = np.concatenate([[0.0], s[idx], [s[-1]]])
+    gaps = np.diff(ends)
+    dz = np.minimum(zone, 0.45 * np.minimum(gaps[:-1], gaps[1:]))  # per corner
+    from scipy.spatial.transform import Rotation, Slerp
+
+    def at_s(x):
+        u = float(np.interp(x, s, path.u))
+        pos, rot = path.at([u])
+        return pos[0], rot[0], bool(path.sprayed([u])[0])
+
     # pieces: ("line", p0, p1, R0, R1, flag) or ("arc", centre, e1, e2, r, phi, R0, R1, flag), with
     # the spray flag of the piece's first sample
     pieces = []
-    start_p, start_R, start_f = P[0], R[0], bool(spray[0])
-    from scipy.spatial.transform import Rotation, Slerp
-
-    def slerp(Ra, Rb, f):
-        return Slerp([0.0, 1.0], Rotation.from_matrix(np.stack([Ra, Rb])))([f]).as_matrix()[0]
-
-    for k in range(1, len(P)):
-        if k < len(P) - 1 and k in corner and seg[k - 1] > 0 and seg[k] > 0:
-            d = min(zone, 0.45 * seg[k - 1], 0.45 * seg[k])
-            a = (P[k] - P[k - 1]) / seg[k - 1]
-            b = (P[k + 1] - P[k]) / seg[k]
-            phi = math.acos(float(np.clip(a @ b, -1.0, 1.0)))
-            if phi < 1e-9 or phi > math.pi - 1e-6:
-                pieces.append(("line", start_p, P[k], start_R, R[k], start_f))
-                start_p, start_R, start_f = P[k], R[k], bool(spray[k])
-                continue
-            pin, pout = P[k] - d * a, P[k] + d * b
-            Rin = slerp(R[k - 1], R[k], 1.0 - d / seg[k - 1])
-            Rout = slerp(R[k], R[k + 1], d / seg[k])
-            pieces.append(("line", start_p, pin, start_R, Rin, start_f))
-            r = d / math.tan(phi / 2)
-            n = b - (a @ b) * a  # towards the inside of the corner, normal to the incoming segment
-            n /= np.linalg.norm(n)
-            centre = pin + r * n
-            e1 = (pin - centre) / r
-            pieces.append(("arc", centre, e1, a, r, phi, Rin, Rout, bool(spray[k])))
-            start_p, start_R, start_f = pout, Rout, bool(spray[k])
-        else:
-            pieces.append(("line", start_p, P[k], start_R, R[k], start_f))
-            start_p, start_R, start_f = P[k], R[k], bool(spray[k])
+    cur = (P[0], R[0], bool(spray[0]))
+    i = 1
+    for c, k in enumerate(idx):
+        s_in, s_out = s[k] - dz[c], s[k] + dz[c]
+        while i < k and s[i] < s_in - 1e-12 * max(1.0, s[-1]):
+            pieces.append(("line", cur[0], P[i], cur[1], R[i], cur[2]))
+            cur = (P[i], R[i], bool(spray[i]))
+            i += 1
+        pin, Rin, _ = at_s(s_in)
+        pout, Rout, f_out = at_s(s_out)
+        a = (P[k] - pin) / np.linalg.norm(P[k] - pin)
+        b = (pout - P[k]) / np.linalg.norm(pout - P[k])
+        phi = math.acos(float(np.clip(a @ b, -1.0, 1.0)))
+        i = int(np.searchsorted(s, s_out + 1e-12 * max(1.0, s[-1]), side="left"))
+        if phi < 1e-9 or phi > math.pi - 1e-6:  # no turn, or a reversal: nothing to blend
+            pieces.append(("line", cur[0], P[k], cur[1], R[k], cur[2]))
+            cur = (P[k], R[k], bool(spray[k]))
+            i = k + 1
+            continue
+        d = min(np.linalg.norm(P[k] - pin), np.linalg.norm(pout - P[k]))
+        pin, pout = P[k] - d * a, P[k] + d * b
+        pieces.append(("line", cur[0], pin, cur[1], Rin, cur[2]))
+        r = d / math.tan(phi / 2)
+        n = b - (a @ b) * a  # towards the inside of the corner, normal to the incoming segment
+        n /= np.linalg.norm(n)
+        centre = pin + r * n
+        pieces.append(("arc", centre, -n, a, r, phi, Rin, Rout, bool(spray[k])))
+        cur = (pout, Rout, f_out)
+    while i < len(P):
+        pieces.append(("line", cur[0], P[i], cur[1], R[i], cur[2]))
+        cur = (P[i], R[i], bool(spray[i]))
+        i += 1
     pieces = [p for p in pieces if not (p[0] == "line" and np.linalg.norm(p[2] - p[1]) < 1e-12
                                         and np.allclose(p[3], p[4]))]
     lengths, rots = [], []
@@ -123,7 +134,7 @@ def blend_corners(path: Path, zone: float, angle: float = DEFAULT_CORNER_ANGLE, 
             L = p[4] * p[5]
             th = float(np.linalg.norm(_rotvecs(p[6][None], p[7][None])[0]))
         lengths.append(math.hypot(L, rotation_radius * th))
-        rots.append((Rotation.from_matrix(np.stack([p[3], p[4]] if p[0] == "line" else [p[6], p[7]]))))
+        rots.append(Rotation.from_matrix(np.stack([p[3], p[4]] if p[0] == "line" else [p[6], p[7]])))
     u0 = np.concatenate([[0.0], np.cumsum(lengths)])
     slerps = [Slerp([0.0, 1.0], r) for r in rots]
 

@@ -110,7 +110,7 @@ def _pos(path, u: float) -> tuple:
     return tuple(float(v) for v in path.at([u])[0][0])
 
 
-def _commanded_check(robot, path, jp, s, on, cap, speed, unit):
+def _commanded_check(robot, path, jp, s, on, cap, speed, unit, per):
     """Joint speeds and accelerations of the commanded profile on the spray-on grid points:
     the stretches (per joint) where a limit is exceeded, as events."""
     d1 = jp.evaluate(s, 1)
@@ -120,9 +120,9 @@ def _commanded_check(robot, path, jp, s, on, cap, speed, unit):
     a = np.gradient(x, s) / 2.0
     v_ratio = np.abs(d1) * np.sqrt(x)[:, None] / robot.velocity
     a_ratio = np.abs(d2 * x[:, None] + d1 * a[:, None]) / robot.acceleration
-    # a run that reaches the end of its spray-on stretch is a ramp (the speed changes there
-    # anyway, e.g. where a pass meets the curvature of its turn): the profile slows down before
-    # it, off the part when the stretch has an overspray margin
+    # a short run of acceleration excess at the end of its spray-on stretch (up to three IK-sample
+    # intervals: where the spline meets the curvature of a turn) is a ramp: the profile slows down
+    # before it, off the part when the stretch has an overspray margin
     first = np.zeros(len(s), dtype=bool)
     last = np.zeros(len(s), dtype=bool)
     for a, b in _stretches(on):
@@ -132,7 +132,7 @@ def _commanded_check(robot, path, jp, s, on, cap, speed, unit):
         for j in range(6):
             bad = on & (ratio[:, j] > 1.0)
             for i0, i1 in _stretches(bad):
-                if first[i0] or last[i1]:
+                if quantity == "acceleration" and (first[i0] or last[i1]) and i1 - i0 < 3 * per:
                     continue
                 bad_any[i0:i1 + 1] = True
                 r = float(ratio[i0:i1 + 1, j].max())
@@ -304,7 +304,7 @@ def _speed_timing(robot, path, jp, speed, slow_down, margin, per, unit, solution
     cap = np.where(on, (speed / np.maximum(rate, 1e-300)) ** 2, np.inf)
     stop_mask = np.isin(s, jp.stops)
     cap[stop_mask] = 0.0
-    check, bad, need = _commanded_check(robot, path, jp, s, on & ~stop_mask, cap, speed, unit)
+    check, bad, need = _commanded_check(robot, path, jp, s, on & ~stop_mask, cap, speed, unit, per)
     if check and not slow_down:
         raise PathNotFeasible(list(solution.events) + check, solution)
     # interval-wise derivatives, on each interval's own side of a stop
@@ -326,13 +326,13 @@ def _speed_timing(robot, path, jp, speed, slow_down, margin, per, unit, solution
     events = []
     # ---- where the gun is slower than commanded on spray-on stretches: ramps and slow-downs
     actual = np.sqrt(x) * rate
+    on = on & ~stop_mask  # a stop ends a spray-on stretch
     slow = on & (actual < (1.0 - SPEED_TOLERANCE) * speed)
     ramps = []
     for a, b in _stretches(slow):
         # a ramp: the slow run touches the end of a spray-on stretch or a stop, and holds no point
         # where the commanded speed breaks a limit
-        touches = ((a == 0 or not on[a - 1] or stop_mask[a])
-                   or (b == len(s) - 1 or not on[b + 1] or stop_mask[b]))
+        touches = (a == 0 or not on[a - 1]) or (b == len(s) - 1 or not on[b + 1])
         if touches and not np.any(bad[a:b + 1]):
             # from the last grid point at speed to the first one at speed again (the speed
             # changes linearly in x between grid points)

@@ -1,9 +1,12 @@
 """``ik7r paint raster | path FILE.csv``: off-line painting programs (the paper's Simulation 3).
 
 Writes into ``--out DIR``: ``trajectory.csv`` (``t,x,y,z,q1..q7,dq1..dq7,ddq1..ddq7`` in s, the
-robot's length unit, deg, deg/s, deg/s^2), ``figure12.png`` (joint positions, velocities and
-accelerations), ``path3d.png`` (the path with robot postures), ``animation.gif`` (or ``.html``)
-and ``report.txt``. Exit status 1 when no continuous joint trajectory follows the path (the
+robot's length unit, deg, deg/s, deg/s^2; rows every 1/rate s plus the peak instants),
+``figure12.png`` (joint positions, velocities and accelerations), ``gun_speed.png`` (the gun's
+speed, commanded and actual, spray-on shaded), ``joint_limits.png`` (joint speeds and
+accelerations with the limits), ``path3d.png`` (the path with robot postures),
+``animation.gif`` (or ``.html``) and ``report.txt``; ``--rapid FILE.mod`` and
+``--program FILE.json`` write the robot program. Exit status 1 when no continuous joint trajectory follows the path (the
 report says which samples and why), 2 on bad input.
 """
 
@@ -15,8 +18,17 @@ from ._common import load_cli_robot
 
 def _common(p) -> None:
     g = p.add_argument_group("program")
-    g.add_argument("--duration", type=float, default=20.0, metavar="S",
-                   help="time for the whole path in seconds (default 20, the paper's)")
+    g.add_argument("--speed", type=float, default=None, metavar="V",
+                   help="commanded gun speed where the spray is on (length unit per s); the rest of "
+                        "the path is timed as fast as the joint limits allow")
+    g.add_argument("--slow-down", action="store_true",
+                   help="with --speed: where the commanded speed would break a joint limit, slow the "
+                        "stroke there (reported) instead of failing")
+    g.add_argument("--duration", type=float, default=None, metavar="S",
+                   help="without --speed: time for the whole path in seconds (default 20, the paper's)")
+    g.add_argument("--zone", type=float, default=None, metavar="D",
+                   help="blend sharp corners of a loaded path within this radius (length unit; RAPID "
+                        "zone data); default: stop at them")
     g.add_argument("--config", type=int, default=1, metavar="N",
                    help="configuration 1..8 (the paper's Appendix 3; default 1)")
     g.add_argument("--keep", choices=("config", "branch"), default="config",
@@ -48,6 +60,12 @@ def _common(p) -> None:
     o.add_argument("--animation-format", choices=("gif", "html"), default="gif",
                    help="animated GIF or a self-contained HTML page (default gif)")
     o.add_argument("--postures", type=int, default=5, metavar="N", help="robot postures in path3d.png")
+    o.add_argument("--rapid", default=None, metavar="FILE.mod",
+                   help="also write the program as an ABB RAPID module (jointtargets, MoveAbsJ \\T)")
+    o.add_argument("--program", default=None, metavar="FILE.json",
+                   help="also write the program as JSON (targets in rad and deg, times, spray flags)")
+    o.add_argument("--signal", default="doGunOn", metavar="NAME",
+                   help="RAPID digital output that switches the gun (default doGunOn)")
 
 
 def add_parser(sub) -> None:
@@ -117,6 +135,23 @@ def run(args) -> int:
         raise CliError(f"--config must be 1..8; got {args.config}")
     if args.frames < 2:
         raise CliError(f"--frames must be at least 2; got {args.frames}")
+    if args.speed is not None and args.duration is not None:
+        raise CliError("give --speed (the process speed) or --duration, not both")
+    if args.slow_down and args.speed is None:
+        raise CliError("--slow-down needs --speed")
+    for name in ("speed", "duration", "zone"):
+        v = getattr(args, name)
+        if v is not None and not (np.isfinite(v) and v > 0):
+            raise CliError(f"--{name} must be a positive number; got {v}")
+    from ..painting.program import _IDENT
+
+    if not _IDENT.match(args.signal):
+        raise CliError(f"--signal must be a RAPID identifier (a letter, then letters, digits or _); "
+                       f"got {args.signal!r}")
+    for opt, suffix in (("rapid", ".mod"), ("program", ".json")):
+        f = getattr(args, opt)
+        if f is not None and not FilePath(f).parent.is_dir():
+            raise CliError(f"--{opt}: no such directory {FilePath(f).parent}")
     try:
         if args.paint_kind == "raster":
             path = P.raster_path(
@@ -137,7 +172,8 @@ def run(args) -> int:
     seed = None if args.seed is None else np.radians(args.seed)
     out = FilePath(args.out)
     try:
-        result = P.paint_path(robot, path, duration=args.duration, config=args.config, seed=seed, tool=tool,
+        result = P.paint_path(robot, path, duration=args.duration, speed=args.speed, slow_down=args.slow_down,
+                              zone=args.zone, config=args.config, seed=seed, tool=tool,
                               keep=args.keep, ramp=args.ramp, kind=args.spline, tolerance=args.tolerance,
                               rate=args.rate, rescale=args.rescale, progress=True)
     except P.PathNotFeasible as exc:
@@ -153,12 +189,21 @@ def run(args) -> int:
     written.append(out / "report.txt")
     if not args.no_plots:
         written.append(P.plot_joint_trajectory(result.trajectory, out / "figure12.png", robot=result.robot))
+        written.append(P.plot_gun_speed(result.trajectory, out / "gun_speed.png", robot=result.robot))
+        written.append(P.plot_joint_limits(result.trajectory, out / "joint_limits.png", result.robot))
         written.append(P.plot_path_3d(result.robot, result.trajectory, out / "path3d.png",
                                       postures=max(1, args.postures)))
         if not args.no_animation:
             name = "animation.gif" if args.animation_format == "gif" else "animation.html"
             written.append(P.animate_painting(result.robot, result.trajectory, out / name,
                                               frames=args.frames))
+    if args.rapid is not None or args.program is not None:
+        program = P.make_program(result.robot, result.path, result.trajectory, signal=args.signal,
+                                 zone=args.zone)
+        if args.rapid is not None:
+            written.append(P.write_rapid(program, args.rapid))
+        if args.program is not None:
+            written.append(P.write_program_json(program, args.program))
     print(report)
     print("wrote " + ", ".join(str(w) for w in written))
     return 0
