@@ -12,12 +12,12 @@ import json
 import numpy as np
 import pytest
 import rapid_reader
-from conftest import dh_product
+from helpers import dh_product
 
 from ik7r.cli import main
 from ik7r.painting import make_program, paint_raster, workpiece_frame, write_program_json, write_rapid
 from ik7r.painting.program import rapid_text
-from ik7r.rotations import invert
+from ik7r.geometry.rotations import invert
 
 W, H, MARGIN, SPEED = 200.0, 100.0, 40.0, 400.0
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import dh_product
+from helpers import dh_product
 
 from ik7r.painting import (
     GUN_DOWN,
@@ -31,7 +31,7 @@ from ik7r.painting import (
     workpiece_frame,
 )
 from ik7r.painting.topp import profile_times, topp
-from ik7r.rotations import invert, transform
+from ik7r.geometry.rotations import invert, transform
 
 SPEED = 500.0  # mm/s
 W, H, MARGIN = 300.0, 100.0, 50.0

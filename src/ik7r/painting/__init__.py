@@ -71,7 +71,7 @@ from .paths import (
     workpiece_frame,
 )
 from .plots import animate_painting, plot_gun_speed, plot_joint_limits, plot_joint_trajectory, plot_path_3d
-from .program import Program, make_program, write_program_json, write_rapid
+from .program import Program, make_program, program_dict, rapid_text, write_program_json, write_rapid
 from .timing import time_path
 from .trajectory import DEFAULT_MAX_STEP, DEFAULT_SINGULAR_MARGIN, PathSolution, solve_path, track
 
@@ -84,7 +84,7 @@ __all__ = [
     "default_tolerance", "DEFAULT_RAMP", "DEFAULT_RATE",
     "find_corners", "blend_corners", "DEFAULT_CORNER_ANGLE",
     "CSV_COLUMNS", "trajectory_table", "write_trajectory_csv",
-    "Program", "make_program", "write_rapid", "write_program_json",
+    "Program", "make_program", "rapid_text", "write_rapid", "program_dict", "write_program_json",
     "plot_joint_trajectory", "plot_path_3d", "animate_painting", "plot_gun_speed", "plot_joint_limits",
     "PathEvent", "Unreachable", "BranchChange", "WristCrossing", "ConfigChange", "JointLimit",
     "NearSingularity", "SpeedLimit", "AccelerationLimit", "TimeScaled", "DeviationExceeded",

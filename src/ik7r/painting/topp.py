@@ -24,10 +24,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import Ik7rError
+
 __all__ = ["topp", "TOPPInfeasible", "profile_times"]
 
 
-class TOPPInfeasible(ValueError):
+class TOPPInfeasible(Ik7rError, ValueError):
     """No admissible speed profile: the path cannot be followed within the limits from the
     given start state to the given end state (``index`` is the grid point where it fails)."""
 

@@ -143,7 +143,7 @@ def run(args) -> int:
         v = getattr(args, name)
         if v is not None and not (np.isfinite(v) and v > 0):
             raise CliError(f"--{name} must be a positive number; got {v}")
-    from ..painting.program import _IDENT
+    from ...painting.program import _IDENT
 
     if not _IDENT.match(args.signal):
         raise CliError(f"--signal must be a RAPID identifier (a letter, then letters, digits or _); "
