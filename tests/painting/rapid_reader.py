@@ -11,6 +11,9 @@ import re
 from dataclasses import dataclass, field
 
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_JOINTTARGET = r"CONST\s+jointtarget\s+(\w+)\s*:=\s*\[\[(.*?)\]\s*,\s*\[(.*?)\]\]\s*;"
+_MOVEABSJ = (rf"MoveAbsJ\s+(\w+)\s*,\s*(\w+)\s*(?:\\T\s*:=\s*({_NUM}))?\s*,\s*(\w+)\s*,"
+             r"\s*(\w+)\s*;")
 
 
 @dataclass
@@ -47,7 +50,7 @@ def parse(text: str) -> Module:
     cur = None
     for line in lines[1:-1]:
         if cur is None:
-            if m := re.fullmatch(r"CONST\s+jointtarget\s+(\w+)\s*:=\s*\[\[(.*?)\]\s*,\s*\[(.*?)\]\]\s*;", line):
+            if m := re.fullmatch(_JOINTTARGET, line):
                 axes = [float(v) for v in m.group(2).split(",")]
                 ext = [float(v) for v in m.group(3).split(",")]
                 assert len(axes) == 6 and len(ext) == 6, line
@@ -74,8 +77,7 @@ def run(module: Module, proc: str = "main") -> list[Move]:
     def execute(name, depth=0):
         assert depth < 20, "recursion"
         for st in module.procs[name]:
-            if m := re.fullmatch(rf"MoveAbsJ\s+(\w+)\s*,\s*(\w+)\s*(?:\\T\s*:=\s*({_NUM}))?\s*,\s*(\w+)\s*,\s*(\w+)\s*;",
-                                 st):
+            if m := re.fullmatch(_MOVEABSJ, st):
                 target, speed, t, zone, tool = m.groups()
                 assert zone == "fine" or re.fullmatch(r"z\d+", zone) or zone in module.zonedata, zone
                 axes, ext = module.jointtargets[target]

@@ -15,9 +15,9 @@ import rapid_reader
 from helpers import dh_product
 
 from ik7r.cli import main
+from ik7r.geometry.rotations import invert
 from ik7r.painting import make_program, paint_raster, workpiece_frame, write_program_json, write_rapid
 from ik7r.painting.program import rapid_text
-from ik7r.geometry.rotations import invert
 
 W, H, MARGIN, SPEED = 200.0, 100.0, 40.0, 400.0
 
@@ -95,7 +95,8 @@ def test_json_program(robot, painted, tmp_path):
     assert abs(sum(t["dt"] for t in tg) - data["duration"]) < 1e-9
     assert abs(data["duration"] - painted.trajectory.duration) < 1e-12
     xy = _workpiece_xy(0.5 * (_tip(robot, q[1:]) + _tip(robot, q[:-1])))
-    np.testing.assert_array_equal([t["spray_after"] for t in tg[:-1]], np.abs(xy[:, 0]) <= W / 2 + MARGIN + 1e-6)
+    np.testing.assert_array_equal([t["spray_after"] for t in tg[:-1]],
+                                  np.abs(xy[:, 0]) <= W / 2 + MARGIN + 1e-6)
 
 
 def test_cli_writes_program_and_pictures(tmp_path, capsys):
@@ -118,7 +119,8 @@ def test_cli_writes_program_and_pictures(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("argv", [["--slow-down"], ["--speed", "100", "--duration", "3"], ["--speed", "-1"],
-                                  ["--signal", "9x", "--speed", "100"], ["--rapid", "/nonexistent/dir/a.mod"]])
+                                  ["--signal", "9x", "--speed", "100"],
+                                  ["--rapid", "/nonexistent/dir/a.mod"]])
 def test_cli_program_options_bad_input_exits_2(argv, tmp_path, capsys):
     assert main(["paint", "raster", "--size", "100", "0", "--out", str(tmp_path / "o")] + argv) == 2
     assert capsys.readouterr().err.startswith("error:")

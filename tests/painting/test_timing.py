@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from helpers import dh_product
 
+from ik7r.geometry.rotations import invert, transform
 from ik7r.painting import (
     GUN_DOWN,
     AccelerationLimit,
@@ -31,7 +32,6 @@ from ik7r.painting import (
     workpiece_frame,
 )
 from ik7r.painting.topp import profile_times, topp
-from ik7r.geometry.rotations import invert, transform
 
 SPEED = 500.0  # mm/s
 W, H, MARGIN = 300.0, 100.0, 50.0
@@ -131,7 +131,7 @@ def test_spray_off_turns_are_as_fast_as_toppra_makes_them(robot, raster):
     profile has at the turn's ends, finds (almost) the same time: the turns are time-optimal
     (ours is computed for 0.995 of the limits, tightened by the dense check: up to about 2 %
     slower, never faster)."""
-    ta = pytest.importorskip("toppra")
+    pytest.importorskip("toppra")
     import toppra.algorithm as algo
     import toppra.constraint as con
     from toppra.interpolator import AbstractGeometricPath
@@ -226,7 +226,8 @@ def test_commanded_speed_too_high_is_reported_or_slowed(robot):
 # ----------------------------------------------------------------------------- corners
 def _corner_csv(tmp_path):
     f = tmp_path / "stroke.csv"
-    pts = [(x, 0.0, 0.0) for x in np.linspace(-150, 150, 31)] + [(150.0, y, 0.0) for y in np.linspace(10, 200, 20)]
+    pts = ([(x, 0.0, 0.0) for x in np.linspace(-150, 150, 31)]
+           + [(150.0, y, 0.0) for y in np.linspace(10, 200, 20)])
     f.write_text("x,y,z\n" + "".join(f"{x},{y},{z}\n" for x, y, z in pts))
     return f
 

@@ -134,7 +134,8 @@ class PaintResult:
             "peak joint speed / limit:        " + _ratios(tr.speed_ratio),
             "peak joint acceleration / limit: " + _ratios(tr.acceleration_ratio),
             "peaks (dense check) at t =       " + "  ".join(
-                f"{JOINT_LABELS[j]} {tr.speed_peak_t[j]:.4f}/{tr.acceleration_peak_t[j]:.4f} s" for j in range(6)),
+                f"{JOINT_LABELS[j]} {tr.speed_peak_t[j]:.4f}/{tr.acceleration_peak_t[j]:.4f} s"
+                for j in range(6)),
             "configurations along the path:   " + ", ".join(str(c) for c in sorted(set(configs))),
         ]
         if tr.commanded_speed is not None:
@@ -144,8 +145,8 @@ class PaintResult:
                 lines.append(f"gun speed on spray-on rows outside the ramps: within {100 * dev:.2f} % of "
                              f"{tr.commanded_speed:g} {u}/s")
             if len(tr.ramps):
-                lines.append(f"ramps (spray on, below the commanded speed at a stretch's end): {len(tr.ramps)}, "
-                             f"longest {np.max(np.diff(tr.ramps, axis=1)):.1f} {u}")
+                lines.append(f"ramps (spray on, below the commanded speed at a stretch's end): "
+                             f"{len(tr.ramps)}, longest {np.max(np.diff(tr.ramps, axis=1)):.1f} {u}")
         lines.append(format_report(self.events))
         return "\n".join(lines)
 
@@ -228,8 +229,9 @@ def paint_path(robot, path: Path, *, duration: float | None = None, speed: float
     return PaintResult(robot, path, solution, trajectory, list(solution.events) + list(more))
 
 
-def paint_raster(robot, *, duration: float | None = None, config=1, origin=DEFAULT_ORIGIN, rpy=(0.0, 0.0, 0.0),
-                 size=DEFAULT_SIZE, spacing: float = DEFAULT_SPACING, margin: float = 0.0,
+def paint_raster(robot, *, duration: float | None = None, config=1, origin=DEFAULT_ORIGIN,
+                 rpy=(0.0, 0.0, 0.0), size=DEFAULT_SIZE, spacing: float = DEFAULT_SPACING,
+                 margin: float = 0.0,
                  standoff: float = 0.0, step: float = DEFAULT_STEP, gun_rotation=GUN_DOWN,
                  **options) -> PaintResult:
     """Paint a raster over a rectangle (the paper's Simulation 3 with the defaults).
@@ -252,8 +254,8 @@ def paint_raster(robot, *, duration: float | None = None, config=1, origin=DEFAU
     size, spacing, margin, standoff, step, gun_rotation
         See :func:`raster_path` (``gun_rotation`` is ``R_workpiece_gun``).
     **options
-        Passed to :func:`paint_path` (``speed``, ``slow_down``, ``seed``, ``tool``, ``keep``, ``ramp``, ``kind``,
-        ``tolerance``, ``rate``, ``rescale``, ``max_step``, ``singular_margin``, ``progress``).
+        Passed to :func:`paint_path` (``speed``, ``slow_down``, ``seed``, ``tool``, ``keep``, ``ramp``,
+        ``kind``, ``tolerance``, ``rate``, ``rescale``, ``max_step``, ``singular_margin``, ``progress``).
     """
     path = raster_path(workpiece_frame(origin, rpy), size=size, spacing=spacing, margin=margin,
                        standoff=standoff, step=step, R_workpiece_gun=gun_rotation)

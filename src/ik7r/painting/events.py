@@ -302,8 +302,9 @@ class CommandedSpeedTooHigh(PathEvent):
 
     def message(self) -> str:
         return (f"commanded speed too high: at {self.speed:g} {self.unit}/s {JOINT_LABELS[self.joint]} "
-                f"needs {self.ratio:.2f} x its {self.quantity} limit on {_where(self.u0, self.u1, self.position, self.unit)}"
-                f" (spray on); at most {self.feasible:.1f} {self.unit}/s there (give slow_down / --slow-down "
+                f"needs {self.ratio:.2f} x its {self.quantity} limit on "
+                f"{_where(self.u0, self.u1, self.position, self.unit)} (spray on); at most "
+                f"{self.feasible:.1f} {self.unit}/s there (give slow_down / --slow-down "
                 f"to slow the stroke there)")
 
 
@@ -325,7 +326,8 @@ class SlowDown(PathEvent):
     def message(self) -> str:
         return (f"slow down: the stroke is slowed on {_where(self.u0, self.u1, self.position, self.unit)} "
                 f"(spray on) to {self.lowest:.1f} {self.unit}/s instead of {self.speed:g} (limited by "
-                f"{JOINT_LABELS[self.joint]}); the film there is up to {self.speed / self.lowest:.2f} x thicker")
+                f"{JOINT_LABELS[self.joint]}); the film there is up to {self.speed / self.lowest:.2f} x "
+                f"thicker")
 
 
 def format_report(events) -> str:

@@ -157,7 +157,8 @@ class Timing:
         start, end = tl < tau, tl > D - tau
         u = np.where(start, V * tau * _ramp_u(xs),
                      np.where(end, L - V * tau * _ramp_u(xe), 0.5 * V * tau + V * (tl - tau)))
-        ud = np.where(start, V * (3 * xs ** 2 - 2 * xs ** 3), np.where(end, V * (3 * xe ** 2 - 2 * xe ** 3), V))
+        ud = np.where(start, V * (3 * xs ** 2 - 2 * xs ** 3),
+                      np.where(end, V * (3 * xe ** 2 - 2 * xe ** 3), V))
         udd = np.where(start, V * (6 * xs - 6 * xs ** 2) / tau,
                        np.where(end, -V * (6 * xe - 6 * xe ** 2) / tau, 0.0))
         return u0 + np.minimum(u, L), ud, udd
@@ -286,7 +287,8 @@ class JointPath:
         idx = np.searchsorted(self.knot_u, bounds)
         if not np.allclose(self.knot_u[idx], bounds, rtol=0, atol=1e-9 * max(1.0, self.knot_u[-1])):
             raise ValueError("every stop must be an IK sample")
-        pieces = [_fit(self.knot_u[a:b + 1], self.knot_q[a:b + 1], self.kind) for a, b in zip(idx[:-1], idx[1:])]
+        pieces = [_fit(self.knot_u[a:b + 1], self.knot_q[a:b + 1], self.kind)
+                  for a, b in zip(idx[:-1], idx[1:])]
         object.__setattr__(self, "_bounds", bounds)
         object.__setattr__(self, "_pieces", pieces)
         object.__setattr__(self, "_derivs", [[p.derivative(n) if n else p for n in range(3)] for p in pieces])

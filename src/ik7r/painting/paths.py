@@ -335,8 +335,9 @@ def raster_path(
                         for i in range(len(lengths_a))] + [[total]])
     # spray: on along the passes (margins included), off inside the turns; a turn's first sample
     # is its pass's last, so it is on
-    spray = np.concatenate([np.ones(c, dtype=bool) if kinds[i] == 0 else np.r_[True, np.zeros(c - 1, dtype=bool)]
-                            for i, c in enumerate(counts)] + [[True]])
+    spray = np.concatenate([np.ones(c, dtype=bool) if kinds[i] == 0
+                            else np.r_[True, np.zeros(c - 1, dtype=bool)] for i, c in enumerate(counts)]
+                           + [[True]])
     pos, rot = geometry(u)
     name = (f"raster {w:g} x {h:g}, {n} passes {gap:g} apart, margin {margin:g}, standoff {standoff:g}"
             if n > 1 else f"line {w:g}, margin {margin:g}, standoff {standoff:g}")

@@ -76,7 +76,8 @@ class Program:
         return float(self.t[-1])
 
 
-def make_program(robot, path, trajectory, *, signal: str = DEFAULT_SIGNAL, zone: float | None = None) -> Program:
+def make_program(robot, path, trajectory, *, signal: str = DEFAULT_SIGNAL,
+                 zone: float | None = None) -> Program:
     """The program of ``trajectory`` (its IK samples as targets) along ``path``.
 
     ``zone`` (robot length unit, default 1 mm) is the zone radius of the targets the robot
@@ -119,17 +120,18 @@ def rapid_text(program: Program, *, module: str = "ik7rPaint", tool: str = "tool
     lines = [f"MODULE {module}",
              f"  ! written by ik7r for robot {program.robot}: {len(deg)} targets, planned duration "
              f"{_num(t_r[-1])} s",
-             "  ! axes 1-6 = independent joints [q1, q2, q3, q4, q5, q7] (deg) as the robot file names and signs "
-             "them;",
+             "  ! axes 1-6 = independent joints [q1, q2, q3, q4, q5, q7] (deg) as the robot file names "
+             "and signs them;",
              "  ! joint 6 is coupled to joint 5 (not an axis); external axes unused (9E9)",
              f"  ! {program.signal} = 1 while the gun sprays; \\T = planned segment time (s)",
-             f"  CONST zonedata zpath := [FALSE, {_num(z)}, {_num(1.5 * z)}, {_num(1.5 * z)}, {_num(0.15 * z)}, "
-             f"{_num(1.5 * z)}, {_num(0.15 * z)}];"]
+             f"  CONST zonedata zpath := [FALSE, {_num(z)}, {_num(1.5 * z)}, {_num(1.5 * z)}, "
+             f"{_num(0.15 * z)}, {_num(1.5 * z)}, {_num(0.15 * z)}];"]
     for k, row in enumerate(deg):
         lines.append(f"  CONST jointtarget jt{k} := [[{', '.join(_num(v) for v in row)}], "
                      "[9E9, 9E9, 9E9, 9E9, 9E9, 9E9]];")
     n_moves = len(deg) - 1
-    procs = [list(range(1 + i, min(1 + i + moves_per_proc, len(deg)))) for i in range(0, n_moves, moves_per_proc)]
+    procs = [list(range(1 + i, min(1 + i + moves_per_proc, len(deg))))
+             for i in range(0, n_moves, moves_per_proc)]
     sig = program.signal
     lines += ["", "  PROC main()", f"    SetDO {sig}, 0;",
               f"    MoveAbsJ jt0, v100, fine, {tool};  ! to the start (not timed)"]

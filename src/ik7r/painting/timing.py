@@ -75,7 +75,7 @@ DEFAULT_GRID = 4
 def _stops_of(solution: PathSolution, corner_angle: float, unit: str):
     path = solution.path
     idx, turn = find_corners(path, corner_angle)
-    events = [CornerStop(int(i), float(a), bool(path.spray[i]), tuple(float(v) for v in path.positions[i]), unit)
+    events = [CornerStop(int(i), float(a), bool(path.spray[i]), _pos(path, path.u[i]), unit)
               for i, a in zip(idx, turn)]
     return tuple(float(path.u[i]) for i in idx), events
 
@@ -142,9 +142,10 @@ def _commanded_check(robot, path, jp, s, on, cap, speed, unit, per):
     return events, bad_any, np.maximum(v_ratio, np.sqrt(a_ratio))
 
 
-def time_path(robot, solution: PathSolution, *, speed: float | None = None, duration: float | None = None,
-              slow_down: bool = False, rescale: bool = False, ramp: float = DEFAULT_RAMP, kind: str = "quintic",
-              tolerance: float | None = None, rate: float = DEFAULT_RATE, max_rounds: int = 10,
+def time_path(robot, solution: PathSolution, *, speed: float | None = None,
+              duration: float | None = None, slow_down: bool = False, rescale: bool = False,
+              ramp: float = DEFAULT_RAMP, kind: str = "quintic", tolerance: float | None = None,
+              rate: float = DEFAULT_RATE, max_rounds: int = 10,
               max_step: float = DEFAULT_MAX_STEP, corner_angle: float | None = None,
               margin: float = DEFAULT_MARGIN, grid: int = DEFAULT_GRID):
     """A timed, checked joint trajectory through the IK samples of ``solution``.
@@ -265,7 +266,8 @@ def time_path(robot, solution: PathSolution, *, speed: float | None = None, dura
             over = q_chk[:, j] - lim if side == "hi" else lim - q_chk[:, j]
             i = int(np.argmax(over))
             if over[i] > 1e-9:
-                events.append(JointLimit(j, float(q_chk[i, j]), float(lim), time=float(timing.t_of_u(u_all[i]))))
+                events.append(JointLimit(j, float(q_chk[i, j]), float(lim),
+                                         time=float(timing.t_of_u(u_all[i]))))
     J = robot.jacobian(q)
     gun = np.linalg.norm(np.einsum("mij,mj->mi", J[:, :3, :], dq), axis=1)
     traj = Trajectory(

@@ -6,8 +6,8 @@ robot's length unit, deg, deg/s, deg/s^2; rows every 1/rate s plus the peak inst
 speed, commanded and actual, spray-on shaded), ``joint_limits.png`` (joint speeds and
 accelerations with the limits), ``path3d.png`` (the path with robot postures),
 ``animation.gif`` (or ``.html``) and ``report.txt``; ``--rapid FILE.mod`` and
-``--program FILE.json`` write the robot program. Exit status 1 when no continuous joint trajectory follows the path (the
-report says which samples and why), 2 on bad input.
+``--program FILE.json`` write the robot program. Exit status 1 when no continuous joint
+trajectory follows the path (the report says which samples and why), 2 on bad input.
 """
 
 from __future__ import annotations
@@ -148,7 +148,7 @@ def run(args) -> int:
     if not _IDENT.match(args.signal):
         raise CliError(f"--signal must be a RAPID identifier (a letter, then letters, digits or _); "
                        f"got {args.signal!r}")
-    for opt, suffix in (("rapid", ".mod"), ("program", ".json")):
+    for opt in ("rapid", "program"):
         f = getattr(args, opt)
         if f is not None and not FilePath(f).parent.is_dir():
             raise CliError(f"--{opt}: no such directory {FilePath(f).parent}")
