@@ -339,3 +339,26 @@ def test_raster_spray_flags_passes_on_turns_off():
     x_w = (p.positions - T_bw[:3, 3]) @ T_bw[:3, 0]
     inside = np.abs(x_w) <= 100.0 + 20.0 + 1e-9
     np.testing.assert_array_equal(p.spray, inside)
+
+
+def test_cli_report_and_csv_agree_on_the_peaks(tmp_path, capsys):
+    """The issue's second observation: the report, the CSV rows and the figures must show the same
+    peak acceleration (here a corner stroke timed by duration, without rescaling)."""
+    from ik7r.cli import main
+    from ik7r.painting import CSV_COLUMNS
+
+    out = tmp_path / "o"
+    rc = main(["paint", "path", str(_corner_csv(tmp_path)), "--frame", "1100", "0", "300", "0", "0", "0",
+               "--duration", "2", "--no-plots", "--out", str(out)])
+    assert rc == 0
+    report = (out / "report.txt").read_text()
+    line = next(x for x in report.splitlines() if x.startswith("peak joint acceleration / limit:"))
+    ratios = np.array([float(w) for w in line.split(":", 1)[1].split()[1::2]])
+    data = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
+    col = {c: i for i, c in enumerate(CSV_COLUMNS)}
+    ddq = data[:, [col[f"ddq{i}"] for i in (1, 2, 3, 4, 5, 7)]]
+    import ik7r
+
+    alim = np.degrees(ik7r.load_robot().acceleration)
+    np.testing.assert_allclose(np.abs(ddq).max(axis=0) / alim, ratios, atol=6e-4)  # 3 printed decimals
+    assert "corner stop" in report

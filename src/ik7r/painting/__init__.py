@@ -13,10 +13,15 @@ The steps, each usable on its own:
    :func:`path_from_poses`);
 2. :func:`solve_path`: one joint solution per sample on one continuous branch, with
    :mod:`events <ik7r.painting.events>` for anything a programmer must know;
-3. :func:`interpolate`: a spline in joint space over the duration, checked against the path
-   (0.01 mm by default) and the joint speed and acceleration limits;
+3. :func:`time_path`: the joint path ``Q(u)`` (a spline through the IK samples, checked against
+   the path to 0.01 mm by default) and its timing: the commanded gun speed where the spray is
+   on and time-optimal elsewhere (``speed=``), or a duration (:func:`interpolate`); stops at
+   sharp corners (or :func:`blend_corners` within a zone); the joint speed and acceleration
+   limits checked densely;
 4. :func:`write_trajectory_csv`, :func:`plot_joint_trajectory` (the paper's Figure 12),
-   :func:`plot_path_3d`, :func:`animate_painting`.
+   :func:`plot_gun_speed`, :func:`plot_joint_limits`, :func:`plot_path_3d`,
+   :func:`animate_painting`; the robot program: :func:`make_program`, :func:`write_rapid`
+   (ABB RAPID), :func:`write_program_json`.
 """
 
 from __future__ import annotations

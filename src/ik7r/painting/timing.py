@@ -318,7 +318,8 @@ def _speed_timing(robot, path, jp, speed, slow_down, margin, per, unit, solution
         try:
             x = topp(s, d1r[:-1], d2r[:-1], d1l[1:], d2l[1:], robot.velocity * f, robot.acceleration * f, cap)
         except TOPPInfeasible as exc:
-            raise PathNotFeasible(list(solution.events), solution) from exc
+            raise TOPPInfeasible(exc.index, f"the path cannot be timed within the joint limits: {exc} "
+                                            f"(at {_pos(path, s[exc.index])} {unit})") from exc
         timing = ProfileTiming(s, x)
         v_pk, _, a_pk, _ = dense_peaks(jp, timing)
         r = max(float(np.max(v_pk / robot.velocity)), float(np.max(a_pk / robot.acceleration)))

@@ -41,7 +41,8 @@ def _common(p) -> None:
     g.add_argument("--seed", nargs=6, type=float, metavar="Q",
                    help="joints (deg) the first sample's solution is nearest to")
     g.add_argument("--ramp", type=float, default=1.0, metavar="S",
-                   help="duration of the speed ramps at start and end (s, default 1)")
+                   help="with --duration: duration of the speed ramps at start, end and corner stops "
+                        "(s, default 1)")
     g.add_argument("--spline", choices=("quintic", "cubic"), default="quintic",
                    help="joint-space spline (default quintic)")
     g.add_argument("--tolerance", type=float, default=None, metavar="D",
@@ -97,8 +98,8 @@ def add_parser(sub) -> None:
     r.set_defaults(run=run)
     f = kinds.add_parser("path", help="a path loaded from CSV",
                          description="A path from a CSV file with a header: x,y,z (length unit) and "
-                                     "optionally qw,qx,qy,qz or roll,pitch,yaw (deg), in a workpiece "
-                                     "frame placed by --frame. Without orientation columns the gun "
+                                     "optionally qw,qx,qy,qz or roll,pitch,yaw (deg) and spray (1/0), in a "
+                                     "workpiece frame placed by --frame. Without orientation columns the gun "
                                      "points along -z of the workpiece (x along its x).")
     f.add_argument("file", metavar="FILE.csv", help="the path")
     f.add_argument("--frame", nargs=6, type=float, default=None, metavar=("X", "Y", "Z", "R", "P", "YAW"),
