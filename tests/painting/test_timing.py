@@ -11,6 +11,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from helpers import dh_product
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from ik7r.geometry.rotations import invert, transform
 from ik7r.painting import (
@@ -362,3 +364,29 @@ def test_cli_report_and_csv_agree_on_the_peaks(tmp_path, capsys):
     alim = np.degrees(ik7r.load_robot().acceleration)
     np.testing.assert_allclose(np.abs(ddq).max(axis=0) / alim, ratios, atol=6e-4)  # 3 printed decimals
     assert "corner stop" in report
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(st.lists(st.floats(0.05, 50.0), min_size=2, max_size=30), st.integers(0, 2**31 - 1))
+def test_profile_timing_round_trip(xs, seed):
+    """A speed profile (x = udot^2 on a grid, constant uddot per interval): u(t) and t(u) invert
+    each other, udot and uddot are the derivatives of u, and t at the grid points is the
+    closed-form sum of 2 du / (v_i + v_{i+1})."""
+    from ik7r.painting import ProfileTiming
+
+    rng = np.random.default_rng(seed)
+    grid = np.concatenate([[0.0], np.cumsum(rng.uniform(0.1, 5.0, len(xs) - 1))])
+    x = np.array(xs)
+    x[0] = 0.0
+    tm = ProfileTiming(grid, x)
+    v = np.sqrt(x)
+    np.testing.assert_allclose(tm.times[1:], np.cumsum(2 * np.diff(grid) / (v[:-1] + v[1:])), rtol=1e-12)
+    t = np.sort(rng.uniform(0, tm.duration, 200))
+    u, ud, udd = tm.derivatives(t)
+    np.testing.assert_allclose(tm.t_of_u(u), t, atol=1e-9 * max(1.0, tm.duration))
+    h = 1e-6 * tm.duration
+    inner = (t > h) & (t < tm.duration - h)
+    up, _, _ = tm.derivatives(t[inner] + h)
+    um, _, _ = tm.derivatives(t[inner] - h)
+    np.testing.assert_allclose((up - um) / (2 * h), ud[inner], rtol=1e-4, atol=1e-6 * v.max())
+    np.testing.assert_allclose(tm.scaled(2.0).derivatives(2 * t)[0], u, atol=1e-9 * grid[-1])

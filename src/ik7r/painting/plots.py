@@ -191,8 +191,9 @@ def plot_gun_speed(trajectory, out, robot=None, *, title: str | None = None) -> 
             ax.axvspan(a, b, color="tab:green", alpha=0.15, lw=0, label="spray on" if k == 0 else None)
         if trajectory.commanded_speed is not None:
             cmd = np.where(trajectory.spray, trajectory.commanded_speed, np.nan)
-            ax.plot(t, cmd, color="k", lw=1.0, ls="--", label="commanded")
-        ax.plot(t, trajectory.gun_speed, color="tab:blue", lw=1.2, label="actual (FK of the joints)")
+            ax.plot(t, cmd, color="0.45", lw=3.5, alpha=0.6, zorder=2, label="commanded")
+        ax.plot(t, trajectory.gun_speed, color="tab:blue", lw=1.2, zorder=3,
+                label="actual (FK of the joints)")
         ax.set_xlabel("time (s)")
         ax.set_ylabel(f"gun speed ({unit}/s)")
         ax.grid(True, alpha=0.3)
