@@ -126,6 +126,21 @@ def test_spray_on_at_the_commanded_speed_outside_ramps_in_the_overspray(robot, r
         ons = path.sprayed(uu)
         assert np.all(np.abs(x_w[ons]) >= W / 2 - 1e-6), (a, b)
     assert len(tr.ramps) >= 2 * 2  # both ends of the 3 passes but the path's own start and end
+    assert raster.events == []  # in particular no RampOnPart: the margins hold the ramps
+
+
+def test_ramps_without_margin_are_reported_on_the_part(robot):
+    from ik7r.painting import RampOnPart
+
+    res = paint_raster(robot, speed=SPEED, size=(W, 50.0), spacing=50.0, margin=0.0, step=10.0)
+    ramps = [e for e in res.events if isinstance(e, RampOnPart)]
+    assert len(ramps) == 1 and ramps[0].count == 4 and ramps[0].depth > 1.0
+    # independently: the gun is slower than commanded somewhere on the part with the spray on
+    tr = res.trajectory
+    x_w = (tr.positions - workpiece_frame()[:3, 3])[:, 0]
+    on_part = tr.spray & (np.abs(x_w) < W / 2 - 1.0)
+    assert np.any(tr.gun_speed[on_part] < 0.99 * SPEED)
+    assert "give a margin of at least" in str(ramps[0])
 
 
 def test_spray_off_turns_are_as_fast_as_toppra_makes_them(robot, raster):

@@ -44,6 +44,7 @@ from .events import (
     NearSingularity,
     PathEvent,
     PathNotFeasible,
+    RampOnPart,
     SlowDown,
     SpeedLimit,
     TimeScaled,
@@ -93,7 +94,7 @@ __all__ = [
     "plot_joint_trajectory", "plot_path_3d", "animate_painting", "plot_gun_speed", "plot_joint_limits",
     "PathEvent", "Unreachable", "BranchChange", "WristCrossing", "ConfigChange", "JointLimit",
     "NearSingularity", "SpeedLimit", "AccelerationLimit", "TimeScaled", "DeviationExceeded",
-    "CornerStop", "CommandedSpeedTooHigh", "SlowDown",
+    "CornerStop", "CommandedSpeedTooHigh", "SlowDown", "RampOnPart",
     "PathNotFeasible", "format_report", "JOINT_LABELS",
 ]
 
@@ -262,6 +263,26 @@ def paint_raster(robot, *, duration: float | None = None, config=1, origin=DEFAU
         Passed to :func:`paint_path` (``speed``, ``slow_down``, ``seed``, ``tool``, ``keep``, ``ramp``,
         ``kind``, ``tolerance``, ``rate``, ``rescale``, ``max_step``, ``singular_margin``, ``progress``).
     """
-    path = raster_path(workpiece_frame(origin, rpy), size=size, spacing=spacing, margin=margin,
-                       standoff=standoff, step=step, R_workpiece_gun=gun_rotation)
-    return paint_path(robot, path, duration=duration, config=config, **options)
+    T_bw = workpiece_frame(origin, rpy)
+    path = raster_path(T_bw, size=size, spacing=spacing, margin=margin, standoff=standoff, step=step,
+                       R_workpiece_gun=gun_rotation)
+    result = paint_path(robot, path, duration=duration, config=config, **options)
+    ramp = _ramp_on_part(result, T_bw, float(np.asarray(size, dtype=float)[0]), float(margin))
+    if ramp is None:
+        return result
+    return PaintResult(result.robot, result.path, result.solution, result.trajectory, result.events + [ramp])
+
+
+def _ramp_on_part(result: PaintResult, T_base_workpiece, width: float, margin: float):
+    """A :class:`RampOnPart` when a speed ramp of a raster's pass reaches inside the rectangle."""
+    tr = result.trajectory
+    depth, count = 0.0, 0
+    for a, b in tr.ramps:
+        u = np.linspace(a, b, 64)
+        p, _ = result.path.at(u)
+        x_w = (p - T_base_workpiece[:3, 3]) @ T_base_workpiece[:3, 0]
+        inside = result.path.sprayed(u) & (np.abs(x_w) < width / 2)
+        if np.any(inside):
+            count += 1
+            depth = max(depth, float(np.max(width / 2 - np.abs(x_w[inside]))))
+    return RampOnPart(count, depth, margin, result.robot.unit) if count else None

@@ -33,6 +33,7 @@ __all__ = [
     "CornerStop",
     "CommandedSpeedTooHigh",
     "SlowDown",
+    "RampOnPart",
     "PathNotFeasible",
     "format_report",
 ]
@@ -328,6 +329,24 @@ class SlowDown(PathEvent):
                 f"(spray on) to {self.lowest:.1f} {self.unit}/s instead of {self.speed:g} (limited by "
                 f"{JOINT_LABELS[self.joint]}); the film there is up to {self.speed / self.lowest:.2f} x "
                 f"thicker")
+
+
+@dataclass(frozen=True)
+class RampOnPart(PathEvent):
+    """``count`` speed ramps of the spray-on passes reach ``depth`` (length unit) onto the part,
+    beyond the overspray ``margin``: the gun is slower than commanded there."""
+
+    count: int
+    depth: float
+    margin: float
+    unit: str = "mm"
+    kind: ClassVar[str] = "ramp on the part"
+
+    def message(self) -> str:
+        return (f"ramp on the part: {self.count} speed ramp{'s' if self.count != 1 else ''} reach up to "
+                f"{self.depth:.1f} {self.unit} onto the part (overspray margin {self.margin:g} {self.unit}); "
+                f"the gun is below the commanded speed there: give a margin of at least "
+                f"{math.ceil(self.margin + self.depth)} {self.unit}")
 
 
 def format_report(events) -> str:
