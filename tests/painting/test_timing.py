@@ -405,3 +405,25 @@ def test_profile_timing_round_trip(xs, seed):
     um, _, _ = tm.derivatives(t[inner] - h)
     np.testing.assert_allclose((up - um) / (2 * h), ud[inner], rtol=1e-4, atol=1e-6 * v.max())
     np.testing.assert_allclose(tm.scaled(2.0).derivatives(2 * t)[0], u, atol=1e-9 * grid[-1])
+
+
+def test_square_with_corner_stops_in_the_process_mode(robot, tmp_path):
+    """Four samples per side only: every corner is a stop, each side a spray-on stretch that ramps up
+    from and down to rest; between the ramps the gun holds the commanded speed (FK)."""
+    f = tmp_path / "sq.csv"
+    f.write_text("x,y,z\n0,0,0\n200,0,0\n200,200,0\n0,200,0\n0,0,0\n")
+    path = load_path_csv(f, workpiece_frame((1000.0, -100.0, 300.0)))
+    res = paint_path(robot, path, speed=300.0)
+    assert [e.index for e in res.events if isinstance(e, CornerStop)] == [1, 2, 3]
+    tr = res.trajectory
+    assert len(tr.ramps) == 5 and np.diff(tr.ramps, axis=1).max() < 20.0
+    t = np.linspace(0.001, tr.duration - 0.001, 20000)
+    u = tr.timing.u_of_t(t)
+    in_ramp = np.zeros(len(u), dtype=bool)
+    for a, b in tr.ramps:
+        in_ramp |= (u >= a) & (u <= b)
+    v = _gun_speed_fd(robot, tr, t)
+    assert np.abs(v[~in_ramp] / 300.0 - 1).max() < 0.01
+    for s in (200.0, 400.0, 600.0):  # at rest (to the rounding of t(u), ~1e-12 s x the deceleration)
+        _, dq, _ = tr.evaluate(tr.timing.t_of_u([s]))
+        assert np.abs(dq).max() < 1e-7

@@ -291,7 +291,8 @@ class JointPath:
                   for a, b in zip(idx[:-1], idx[1:])]
         object.__setattr__(self, "_bounds", bounds)
         object.__setattr__(self, "_pieces", pieces)
-        object.__setattr__(self, "_derivs", [[p.derivative(n) if n else p for n in range(3)] for p in pieces])
+        object.__setattr__(self, "_derivs", [[p.derivative(n) if n else p for n in range(min(3, p.k + 1))]
+                                             for p in pieces])
 
     def evaluate(self, u, order: int = 0, side: str = "right") -> np.ndarray:
         """``Q``, ``Q'`` or ``Q''`` (order 0, 1, 2) at ``u`` (M,) -> (M, 6); at a stop the piece
@@ -302,7 +303,8 @@ class JointPath:
         out = np.empty((len(u), self.knot_q.shape[1]))
         for j in np.unique(k):
             m = k == j
-            out[m] = self._derivs[j][order](u[m])
+            d = self._derivs[j]
+            out[m] = d[order](u[m]) if order < len(d) else 0.0
         return out
 
 
@@ -320,11 +322,37 @@ def _interior(k: np.ndarray) -> np.ndarray:
     return (k[:-1, None] + _CHECK_FRACTIONS[None, :] * np.diff(k)[:, None]).reshape(-1)
 
 
+def _enough_knots(robot, path, ku, kq, stops, need, max_step):
+    """Add IK samples (bisecting the longest intervals, on the same branch) to every piece between
+    stops that has fewer than ``need`` samples, so that each gets a spline of full degree."""
+    bounds = np.concatenate([[ku[0]], stops, [ku[-1]]])
+    for _ in range(need):
+        idx = np.searchsorted(ku, bounds)
+        short = [(a, b) for a, b in zip(idx[:-1], idx[1:]) if b - a + 1 < need]
+        if not short:
+            break
+        new_u, new_q = [], []
+        for a, b in short:
+            i = a + int(np.argmax(np.diff(ku[a:b + 1])))
+            um = 0.5 * (ku[i] + ku[i + 1])
+            qm, _ = track(robot, path, kq[i], ku[i], um, max_step=max_step)
+            if qm is None:
+                return ku, kq
+            new_u.append(um)
+            new_q.append(qm)
+        ku = np.concatenate([ku, new_u])
+        kq = np.concatenate([kq, np.array(new_q)])
+        order = np.argsort(ku, kind="stable")
+        ku, kq = ku[order], kq[order]
+    return ku, kq
+
+
 def fit_joint_path(robot, path, ku, kq, stops, kind, tol, *, extra_u=None, max_rounds: int = 10,
                    max_step: float = DEFAULT_MAX_STEP) -> JointPath:
     """Fit :class:`JointPath` and add IK samples at the middle of intervals where the tool
     leaves the path by more than ``tol`` (at the check points and at ``extra_u``)."""
-    ku, kq = np.asarray(ku, dtype=float), np.asarray(kq, dtype=float)
+    ku, kq = _enough_knots(robot, path, np.asarray(ku, dtype=float), np.asarray(kq, dtype=float), stops,
+                           6 if kind == "quintic" else 4, max_step)
     stuck: set[float] = set()
     jp = JointPath(ku, kq, tuple(stops), kind)
     for rnd in range(max_rounds + 1):

@@ -55,6 +55,7 @@ from .interpolate import (
     dense_peaks,
     fit_joint_path,
     joint_motion,
+    mm_in,
     output_times,
 )
 from .topp import TOPPInfeasible, topp
@@ -70,6 +71,8 @@ SPEED_TOLERANCE = 0.01
 DEFAULT_MARGIN = 0.995
 #: Grid points per IK-sample interval of the time-optimal profile.
 DEFAULT_GRID = 4
+#: Largest distance between the profile's grid points (mm).
+GRID_SPACING_MM = 1.0
 
 
 def _stops_of(solution: PathSolution, corner_angle: float, unit: str):
@@ -80,10 +83,12 @@ def _stops_of(solution: PathSolution, corner_angle: float, unit: str):
     return tuple(float(path.u[i]) for i in idx), events
 
 
-def _grid(jp: JointPath, per: int) -> np.ndarray:
+def _grid(jp: JointPath, per: int, h: float) -> np.ndarray:
+    """``per`` points per IK-sample interval, more where that leaves them farther than ``h``."""
     ku = jp.knot_u
-    f = np.arange(per) / per
-    return np.concatenate([(ku[:-1, None] + f[None, :] * np.diff(ku)[:, None]).reshape(-1), ku[-1:]])
+    n = np.maximum(per, np.ceil(np.diff(ku) / h - 1e-9).astype(int))
+    return np.concatenate([ku[i] + np.arange(n[i]) / n[i] * (ku[i + 1] - ku[i]) for i in range(len(n))]
+                          + [ku[-1:]])
 
 
 def _tip_rate(path, s: np.ndarray) -> np.ndarray:
@@ -300,7 +305,7 @@ def _duration_timing(robot, path, jp, duration, ramp, stops, rescale):
 
 
 def _speed_timing(robot, path, jp, speed, slow_down, margin, per, unit, solution):
-    s = _grid(jp, per)
+    s = _grid(jp, per, GRID_SPACING_MM * mm_in(unit))
     on = path.sprayed(s)
     rate = _tip_rate(path, s)
     cap = np.where(on, (speed / np.maximum(rate, 1e-300)) ** 2, np.inf)
@@ -329,13 +334,13 @@ def _speed_timing(robot, path, jp, speed, slow_down, margin, per, unit, solution
     events = []
     # ---- where the gun is slower than commanded on spray-on stretches: ramps and slow-downs
     actual = np.sqrt(x) * rate
-    on = on & ~stop_mask  # a stop ends a spray-on stretch
-    slow = on & (actual < (1.0 - SPEED_TOLERANCE) * speed)
+    slow = on & (actual < (1.0 - SPEED_TOLERANCE) * speed)  # a stop (speed 0) is slow
     ramps = []
     for a, b in _stretches(slow):
-        # a ramp: the slow run touches the end of a spray-on stretch or a stop, and holds no point
-        # where the commanded speed breaks a limit
-        touches = (a == 0 or not on[a - 1]) or (b == len(s) - 1 or not on[b + 1])
+        # a ramp: the slow run touches the end of a spray-on stretch or holds a stop, and holds no
+        # point where the commanded speed breaks a limit
+        touches = ((a == 0 or not on[a - 1]) or (b == len(s) - 1 or not on[b + 1])
+                   or bool(np.any(stop_mask[a:b + 1])))
         if touches and not np.any(bad[a:b + 1]):
             # from the last grid point at speed to the first one at speed again (the speed
             # changes linearly in x between grid points)
