@@ -30,6 +30,10 @@ __all__ = [
     "AccelerationLimit",
     "TimeScaled",
     "DeviationExceeded",
+    "CornerStop",
+    "CommandedSpeedTooHigh",
+    "SlowDown",
+    "RampOnPart",
     "PathNotFeasible",
     "format_report",
 ]
@@ -253,6 +257,96 @@ class DeviationExceeded(PathEvent):
         return (f"deviation: the interpolated tool is {self.deviation:.4g} {self.unit} from the path at "
                 f"t = {self.time:.4f} s (tolerance {self.tolerance:g} {self.unit}); a corner in the path? "
                 f"round it or sample it more densely")
+
+
+def _where(u0: float, u1: float, position, unit: str) -> str:
+    return f"u = {u0:.1f}-{u1:.1f} {unit}{_at(position, unit)}"
+
+
+@dataclass(frozen=True)
+class CornerStop(PathEvent):
+    """The path turns by ``angle`` (rad) at sample ``index`` (a sharp corner of a sampled path):
+    the robot stops there (no zone was given to blend it). ``sprayed``: the gun is on there,
+    so paint builds up at the corner."""
+
+    index: int
+    angle: float
+    sprayed: bool = False
+    position: tuple[float, float, float] | None = None
+    unit: str = "mm"
+    kind: ClassVar[str] = "corner stop"
+
+    def message(self) -> str:
+        tail = " with the gun on (paint builds up there; blend it with a zone)" if self.sprayed else ""
+        return (f"corner stop: the path turns by {_deg(self.angle)} at sample {self.index}"
+                f"{_at(self.position, self.unit)}; the robot stops there{tail}")
+
+
+@dataclass(frozen=True)
+class CommandedSpeedTooHigh(PathEvent):
+    """At the commanded gun speed ``speed`` the joint ``joint`` would exceed its ``quantity``
+    limit (``"speed"`` or ``"acceleration"``) by ``ratio`` on the spray-on stretch
+    ``u0..u1`` (path parameter); ``feasible`` is the highest gun speed that keeps it within
+    the limit there. Blocking unless the stroke may be slowed (``slow_down=True``)."""
+
+    joint: int
+    quantity: str
+    ratio: float
+    u0: float
+    u1: float
+    speed: float
+    feasible: float
+    position: tuple[float, float, float] | None = None
+    unit: str = "mm"
+    blocking: ClassVar[bool] = True
+    kind: ClassVar[str] = "commanded speed too high"
+
+    def message(self) -> str:
+        return (f"commanded speed too high: at {self.speed:g} {self.unit}/s {JOINT_LABELS[self.joint]} "
+                f"needs {self.ratio:.2f} x its {self.quantity} limit on "
+                f"{_where(self.u0, self.u1, self.position, self.unit)} (spray on); at most "
+                f"{self.feasible:.1f} {self.unit}/s there (give slow_down / --slow-down "
+                f"to slow the stroke there)")
+
+
+@dataclass(frozen=True)
+class SlowDown(PathEvent):
+    """The gun moves slower than commanded on the spray-on stretch ``u0..u1`` (down to
+    ``lowest``, length unit per s) to keep joint ``joint`` within its limits; the film there
+    is thicker by up to ``speed / lowest``."""
+
+    joint: int
+    u0: float
+    u1: float
+    speed: float
+    lowest: float
+    position: tuple[float, float, float] | None = None
+    unit: str = "mm"
+    kind: ClassVar[str] = "slow down"
+
+    def message(self) -> str:
+        return (f"slow down: the stroke is slowed on {_where(self.u0, self.u1, self.position, self.unit)} "
+                f"(spray on) to {self.lowest:.1f} {self.unit}/s instead of {self.speed:g} (limited by "
+                f"{JOINT_LABELS[self.joint]}); the film there is up to {self.speed / self.lowest:.2f} x "
+                f"thicker")
+
+
+@dataclass(frozen=True)
+class RampOnPart(PathEvent):
+    """``count`` speed ramps of the spray-on passes reach ``depth`` (length unit) onto the part,
+    beyond the overspray ``margin``: the gun is slower than commanded there."""
+
+    count: int
+    depth: float
+    margin: float
+    unit: str = "mm"
+    kind: ClassVar[str] = "ramp on the part"
+
+    def message(self) -> str:
+        return (f"ramp on the part: {self.count} speed ramp{'s' if self.count != 1 else ''} reach up to "
+                f"{self.depth:.1f} {self.unit} onto the part (overspray margin {self.margin:g} {self.unit}); "
+                f"the gun is below the commanded speed there: give a margin of at least "
+                f"{math.ceil(self.margin + self.depth)} {self.unit}")
 
 
 def format_report(events) -> str:

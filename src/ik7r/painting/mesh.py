@@ -2,7 +2,8 @@
 
 :func:`paint_mesh` chains :func:`~ik7r.painting.surface.surface_raster`,
 :func:`~ik7r.painting.solve_path`, a timing at a commanded gun speed
-(:func:`time_at_speed`), :func:`~ik7r.painting.film.gun_poses` (forward kinematics of the
+(:func:`~ik7r.painting.time_path`: the commanded speed where the spray is on, time-optimal
+where it is off), :func:`~ik7r.painting.film.gun_poses` (forward kinematics of the
 interpolated joints) and :func:`~ik7r.painting.film.part_film`; with a target thickness it
 chooses the speed (thickness scales as 1 / speed for a fixed spacing), re-times and
 integrates again; it checks the spacing against the spray width (ripple).
@@ -27,8 +28,9 @@ from .surface import (
     surface_raster,
     target_faces,
 )
+from .timing import time_path
 
-__all__ = ["MeshPaintResult", "paint_mesh", "time_at_speed", "choose_spacing", "DEFAULT_SPEED",
+__all__ = ["MeshPaintResult", "paint_mesh", "choose_spacing", "DEFAULT_SPEED",
            "RIPPLE_GOAL", "write_trajectory_spray_csv"]
 
 #: Default commanded gun speed over the part (mm/s, converted to the robot's unit).
@@ -37,27 +39,6 @@ DEFAULT_SPEED = 500.0
 RIPPLE_GOAL = 0.01
 #: Ripple above which the report warns that the spacing is too wide for the gun.
 RIPPLE_WARN = 0.05
-
-
-def time_at_speed(robot, solution, speed: float, *, ramp: float = 1.0, approach: float | None = None,
-                  **options):
-    """A timed trajectory running the path at ``speed`` (robot unit/s of the path parameter).
-
-    STAND-IN for the constant-speed timing of issue 16: today's :func:`interpolate` over the
-    duration ``u_total / speed + ramp`` (its speed between the ramps is then ``speed``); the
-    ramps are shortened to fit in the approach and retract (``2 approach / speed``), so the
-    gun is at speed wherever it sprays. ``options`` go to :func:`interpolate`.
-    """
-    from .interpolate import interpolate
-
-    if not (math.isfinite(speed) and speed > 0):
-        raise ValueError(f"speed must be a positive number; got {speed!r}")
-    L = float(solution.path.u[-1])
-    r = float(ramp)
-    if approach is not None and approach > 0:
-        r = min(r, 2.0 * approach / speed)
-    r = max(r, 1e-3)
-    return interpolate(robot, solution, L / speed + r, ramp=r, **options)
 
 
 def choose_spacing(gun: Gun, goal: float = RIPPLE_GOAL, *, round_to: float | None = None) -> float:
@@ -168,8 +149,8 @@ def paint_mesh(robot, part: Part, *, gun="bell", spacing: float | None = None, s
                overspray: float | None = None, approach: float | None = None, direction=(1.0, 0.0, 0.0),
                view=(0.0, 0.0, 1.0), spin: float = 0.0, speed: float | None = None,
                target_thickness: float | None = None, thickness_tolerance: float | None = None,
-               config=1, seed=None, keep: str = "config", ramp: float = 1.0, kind: str = "quintic",
-               tolerance: float | None = None, rate: float = 100.0, rescale: bool = False,
+               config=1, seed=None, keep: str = "config", slow_down: bool = False, kind: str = "quintic",
+               tolerance: float | None = None, rate: float = 100.0,
                occlusion: bool = True, resolution: int = _film.DEFAULT_RESOLUTION, step: float | None = None,
                progress: bool = False) -> MeshPaintResult:
     """Paint ``part`` with ``gun``: raster, trajectory, film; the speed for a target thickness.
@@ -179,8 +160,11 @@ def paint_mesh(robot, part: Part, *, gun="bell", spacing: float | None = None, s
     of at most 1 % (:func:`choose_spacing`), ``overspray`` 60 mm, ``approach`` 150 mm,
     ``speed`` 500 mm/s (or chosen for ``target_thickness``, um). ``thickness_tolerance`` (um,
     default 10 % of the target) is the band of the "share within" statistic. ``tolerance`` is
-    the path deviation tolerance of :func:`interpolate`. Raises ``PathNotFeasible`` when no
-    continuous joint trajectory follows the raster.
+    the path deviation tolerance. The timing is :func:`~ik7r.painting.time_path`'s process mode:
+    ``speed`` on the passes, time-optimal within the joint limits on the turns, approach and
+    retract; ``slow_down`` slows a pass where the speed would break a limit (the film shows it).
+    Raises ``PathNotFeasible`` when no continuous joint trajectory follows the raster within the
+    limits (or the speed breaks one, without ``slow_down``).
     """
     from .events import PathNotFeasible
     from .trajectory import solve_path
@@ -218,10 +202,10 @@ def paint_mesh(robot, part: Part, *, gun="bell", spacing: float | None = None, s
     if not solution.feasible:
         raise PathNotFeasible(solution.events, solution)
     h = _film.film_step(g) if step is None else float(step)
-    opts = dict(kind=kind, tolerance=tolerance, rate=rate, rescale=rescale)
+    opts = dict(kind=kind, tolerance=tolerance, rate=rate)
 
     def run(v):
-        traj, more = time_at_speed(robot, solution, v, ramp=ramp, approach=approach, **opts)
+        traj, more = time_path(robot, solution, speed=v, slow_down=slow_down, **opts)
         poses = _film.gun_poses(robot, traj, path, part.T_base_part, g, step=h)
         thick = _film.part_film(part, poses, g, occlusion=occlusion, resolution=resolution)
         return traj, more, poses, thick

@@ -266,7 +266,8 @@ def raster_path(
     Returns
     -------
     Path
-        Exact geometry between samples (``Path.at``); ``u`` is the arc length.
+        Exact geometry between samples (``Path.at``); ``u`` is the arc length; spray on along
+        the passes (margins included), off in the turns.
     """
     T_bw = workpiece_frame() if T_base_workpiece is None else check_transforms(T_base_workpiece,
                                                                              "T_base_workpiece")
@@ -329,18 +330,24 @@ def raster_path(
         rot = np.broadcast_to(R_bg, (len(u), 3, 3)).copy()
         return pos, rot
 
-    u = np.concatenate([np.linspace(seg_start[i], seg_start[i + 1],
-                                    max(1, int(math.ceil(lengths_a[i] / step - 1e-9))) + 1)[:-1]
+    counts = [max(1, int(math.ceil(lengths_a[i] / step - 1e-9))) for i in range(len(lengths_a))]
+    u = np.concatenate([np.linspace(seg_start[i], seg_start[i + 1], counts[i] + 1)[:-1]
                         for i in range(len(lengths_a))] + [[total]])
+    # spray: on along the passes (margins included), off inside the turns; a turn's first sample
+    # is its pass's last, so it is on
+    spray = np.concatenate([np.ones(c, dtype=bool) if kinds[i] == 0
+                            else np.r_[True, np.zeros(c - 1, dtype=bool)] for i, c in enumerate(counts)]
+                           + [[True]])
     pos, rot = geometry(u)
     name = (f"raster {w:g} x {h:g}, {n} passes {gap:g} apart, margin {margin:g}, standoff {standoff:g}"
             if n > 1 else f"line {w:g}, margin {margin:g}, standoff {standoff:g}")
-    return Path(pos, rot, u, geometry, name)
+    return Path(pos, rot, u, geometry, name, spray)
 
 
 # ----------------------------------------------------------------------------- CSV
 _QUAT = ("qw", "qx", "qy", "qz")
 _RPY = ("roll", "pitch", "yaw")
+_SPRAY_WORDS = {"1": True, "0": False, "true": True, "false": False, "on": True, "off": False}
 
 
 def load_path_csv(
@@ -356,6 +363,8 @@ def load_path_csv(
     and optionally an orientation as a unit quaternion ``qw, qx, qy, qz`` or as URDF
     roll-pitch-yaw ``roll, pitch, yaw`` in **degrees** (not both). Without orientation columns
     every pose has ``default_rotation`` (in the workpiece frame; default :data:`GUN_DOWN`).
+    An optional ``spray`` column (``1``/``0``, ``true``/``false``, ``on``/``off``) gives the
+    gun state per sample (:attr:`Path.spray`); without it the gun is on throughout.
     Other columns are ignored; blank lines and lines starting with ``#`` are skipped.
 
     Parameters
@@ -421,8 +430,19 @@ def load_path_csv(
         R0 = check_transforms(transform(np.asarray(default_rotation, dtype=float)),
                               "default_rotation")[:3, :3]
         R_w = np.broadcast_to(R0, (len(data), 3, 3))
+    spray = None
+    if "spray" in header:
+        col = header.index("spray")
+        spray = np.empty(len(data), dtype=bool)
+        for r, (row, (lineno, _)) in enumerate(zip(rows[1:], lines[1:])):
+            word = row[col].strip().lower() if col < len(row) else ""
+            if word not in _SPRAY_WORDS:
+                raise ValueError(f"{fp}, line {lineno}: column 'spray' must be 1/0, true/false or on/off; "
+                                 f"got {word!r}")
+            spray[r] = _SPRAY_WORDS[word]
     T_base_tool = T_bw @ transform(R_w, data[:, :3])
     try:
-        return path_from_poses(T_base_tool, rotation_radius=rotation_radius, name=fp.name)
+        p = path_from_poses(T_base_tool, rotation_radius=rotation_radius, name=fp.name)
     except ValueError as exc:
         raise ValueError(f"{fp}: {exc}") from exc
+    return p if spray is None else Path(p.positions, p.rotations, p.u, None, p.name, spray)

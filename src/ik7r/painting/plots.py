@@ -10,7 +10,8 @@ from pathlib import Path as FilePath
 
 import numpy as np
 
-__all__ = ["plot_joint_trajectory", "plot_path_3d", "animate_painting", "DEFAULT_FRAMES"]
+__all__ = ["plot_joint_trajectory", "plot_path_3d", "animate_painting", "plot_gun_speed", "plot_joint_limits",
+           "DEFAULT_FRAMES"]
 
 #: Default number of animation frames (the cap of ``ik7r paint --frames``).
 DEFAULT_FRAMES = 60
@@ -169,3 +170,66 @@ def animate_painting(robot, trajectory, out, *, frames: int = DEFAULT_FRAMES, fp
     finally:
         plt.close(fig)
     return out
+
+
+def _spray_spans(t, spray):
+    """(start, end) times of the runs of spray-on rows."""
+    m = np.concatenate([[False], np.asarray(spray, dtype=bool), [False]]).astype(int)
+    d = np.diff(m)
+    return [(t[a], t[b - 1]) for a, b in zip(np.flatnonzero(d == 1), np.flatnonzero(d == -1))]
+
+
+def plot_gun_speed(trajectory, out, robot=None, *, title: str | None = None) -> FilePath:
+    """The gun's speed against time: actual (forward kinematics of the joints) and commanded,
+    spray-on stretches shaded."""
+    plt = _pyplot()
+    t = np.asarray(trajectory.t)
+    unit = robot.unit if robot is not None else "length unit"
+    fig, ax = plt.subplots(figsize=(9, 4))
+    try:
+        for k, (a, b) in enumerate(_spray_spans(t, trajectory.spray)):
+            ax.axvspan(a, b, color="tab:green", alpha=0.15, lw=0, label="spray on" if k == 0 else None)
+        if trajectory.commanded_speed is not None:
+            cmd = np.where(trajectory.spray, trajectory.commanded_speed, np.nan)
+            ax.plot(t, cmd, color="0.45", lw=3.5, alpha=0.6, zorder=2, label="commanded")
+        ax.plot(t, trajectory.gun_speed, color="tab:blue", lw=1.2, zorder=3,
+                label="actual (FK of the joints)")
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel(f"gun speed ({unit}/s)")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8, loc="lower right")
+        ax.set_title(title or "Gun speed" + (f" (robot {robot.name})" if robot is not None else ""))
+        fig.tight_layout()
+        fig.savefig(out, dpi=110)
+    finally:
+        plt.close(fig)
+    return FilePath(out)
+
+
+def plot_joint_limits(trajectory, out, robot, *, title: str | None = None) -> FilePath:
+    """Joint speeds and accelerations against time with the robot's limits drawn (dashed, in
+    each joint's colour), spray-on stretches shaded."""
+    plt = _pyplot()
+    t = np.asarray(trajectory.t)
+    fig, axes = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
+    try:
+        for ax, (x, lim, name, unit) in zip(axes, [(trajectory.dq, robot.velocity, "joint speed", "deg/s"),
+                                                    (trajectory.ddq, robot.acceleration, "joint acceleration",
+                                                     "deg/s²")]):
+            for a, b in _spray_spans(t, trajectory.spray):
+                ax.axvspan(a, b, color="tab:green", alpha=0.1, lw=0)
+            for j in range(6):
+                line, = ax.plot(t, np.degrees(np.asarray(x)[:, j]), lw=1.0, label=_LABELS[j])
+                if lim is not None:
+                    for sgn in (1, -1):
+                        ax.axhline(sgn * np.degrees(lim[j]), color=line.get_color(), ls="--", lw=0.8)
+            ax.set_ylabel(f"{name} ({unit})")
+            ax.grid(True, alpha=0.3)
+        axes[-1].set_xlabel("time (s)")
+        axes[0].legend(ncol=6, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, 1.22))
+        fig.suptitle(title or f"Joint speeds and accelerations, limits dashed (robot {robot.name})")
+        fig.tight_layout()
+        fig.savefig(out, dpi=110)
+    finally:
+        plt.close(fig)
+    return FilePath(out)

@@ -73,13 +73,16 @@ def run_mesh(args) -> int:
     from ...painting.spray import load_gun
     from ...units import unit_scale
     from ._common import load_cli_robot
-    from .paint import _pose
+    from .paint import _pose, check_program_args, program_outputs, timing_plots
 
     robot = load_cli_robot(args)
     if args.tool is not None:
         robot = robot.with_tool(_pose(args.tool))
     if args.duration is not None:
         raise CliError("paint mesh: the timing comes from --speed or --target-thickness, not --duration")
+    if args.zone is not None:
+        raise CliError("paint mesh: --zone blends the corners of sampled paths; a surface raster has none")
+    check_program_args(args)
     if not 1 <= args.config <= 8:
         raise CliError(f"--config must be 1..8; got {args.config}")
     try:
@@ -96,8 +99,8 @@ def run_mesh(args) -> int:
             overspray=args.overspray, approach=args.approach, direction=args.direction, view=args.view,
             spin=np.radians(args.spin), speed=args.speed, target_thickness=args.target_thickness,
             thickness_tolerance=args.tolerance_thickness, config=args.config,
-            seed=None if args.seed is None else np.radians(args.seed), keep=args.keep, ramp=args.ramp,
-            kind=args.spline, tolerance=args.tolerance, rate=args.rate, rescale=args.rescale,
+            seed=None if args.seed is None else np.radians(args.seed), keep=args.keep,
+            slow_down=args.slow_down, kind=args.spline, tolerance=args.tolerance, rate=args.rate,
             occlusion=not args.no_occlusion, progress=True)
     except P.PathNotFeasible as exc:
         raise NoSolution(str(exc)) from exc
@@ -115,6 +118,8 @@ def run_mesh(args) -> int:
                                         title=_title(part.name, result)))
         written.append(W.write_view_html(out / "view.html", result.program.robot, part, result.thickness, tr,
                                          path, faces=result.faces, postures=max(1, args.postures)))
+        written += timing_plots(result.program.robot, tr, out)
+    written += program_outputs(args, result.program.robot, path, tr)
     report = result.report()
     (out / "report.txt").write_text(report + "\n")
     (out / "report.json").write_text(json.dumps(result.to_json(), indent=2) + "\n")

@@ -1,10 +1,13 @@
 """``ik7r paint raster | path FILE.csv``: off-line painting programs (the paper's Simulation 3).
 
 Writes into ``--out DIR``: ``trajectory.csv`` (``t,x,y,z,q1..q7,dq1..dq7,ddq1..ddq7`` in s, the
-robot's length unit, deg, deg/s, deg/s^2), ``figure12.png`` (joint positions, velocities and
-accelerations), ``path3d.png`` (the path with robot postures), ``animation.gif`` (or ``.html``)
-and ``report.txt``. Exit status 1 when no continuous joint trajectory follows the path (the
-report says which samples and why), 2 on bad input.
+robot's length unit, deg, deg/s, deg/s^2; rows every 1/rate s plus the peak instants),
+``figure12.png`` (joint positions, velocities and accelerations), ``gun_speed.png`` (the gun's
+speed, commanded and actual, spray-on shaded), ``joint_limits.png`` (joint speeds and
+accelerations with the limits), ``path3d.png`` (the path with robot postures),
+``animation.gif`` (or ``.html``) and ``report.txt``; ``--rapid FILE.mod`` and
+``--program FILE.json`` write the robot program. Exit status 1 when no continuous joint
+trajectory follows the path (the report says which samples and why), 2 on bad input.
 """
 
 from __future__ import annotations
@@ -15,8 +18,17 @@ from ._common import load_cli_robot
 
 def _common(p) -> None:
     g = p.add_argument_group("program")
-    g.add_argument("--duration", type=float, default=20.0, metavar="S",
-                   help="time for the whole path in seconds (default 20, the paper's)")
+    g.add_argument("--speed", type=float, default=None, metavar="V",
+                   help="commanded gun speed where the spray is on (length unit per s); the rest of "
+                        "the path is timed as fast as the joint limits allow")
+    g.add_argument("--slow-down", action="store_true",
+                   help="with --speed: where the commanded speed would break a joint limit, slow the "
+                        "stroke there (reported) instead of failing")
+    g.add_argument("--duration", type=float, default=None, metavar="S",
+                   help="without --speed: time for the whole path in seconds (default 20, the paper's)")
+    g.add_argument("--zone", type=float, default=None, metavar="D",
+                   help="blend sharp corners of a loaded path within this radius (length unit; RAPID "
+                        "zone data); default: stop at them")
     g.add_argument("--config", type=int, default=1, metavar="N",
                    help="configuration 1..8 (the paper's Appendix 3; default 1)")
     g.add_argument("--keep", choices=("config", "branch"), default="config",
@@ -29,7 +41,8 @@ def _common(p) -> None:
     g.add_argument("--seed", nargs=6, type=float, metavar="Q",
                    help="joints (deg) the first sample's solution is nearest to")
     g.add_argument("--ramp", type=float, default=1.0, metavar="S",
-                   help="duration of the speed ramps at start and end (s, default 1)")
+                   help="with --duration: duration of the speed ramps at start, end and corner stops "
+                        "(s, default 1)")
     g.add_argument("--spline", choices=("quintic", "cubic"), default="quintic",
                    help="joint-space spline (default quintic)")
     g.add_argument("--tolerance", type=float, default=None, metavar="D",
@@ -48,6 +61,12 @@ def _common(p) -> None:
     o.add_argument("--animation-format", choices=("gif", "html"), default="gif",
                    help="animated GIF or a self-contained HTML page (default gif)")
     o.add_argument("--postures", type=int, default=5, metavar="N", help="robot postures in path3d.png")
+    o.add_argument("--rapid", default=None, metavar="FILE.mod",
+                   help="also write the program as an ABB RAPID module (jointtargets, MoveAbsJ \\T)")
+    o.add_argument("--program", default=None, metavar="FILE.json",
+                   help="also write the program as JSON (targets in rad and deg, times, spray flags)")
+    o.add_argument("--signal", default="doGunOn", metavar="NAME",
+                   help="RAPID digital output that switches the gun (default doGunOn)")
 
 
 def add_parser(sub) -> None:
@@ -79,8 +98,8 @@ def add_parser(sub) -> None:
     r.set_defaults(run=run)
     f = kinds.add_parser("path", help="a path loaded from CSV",
                          description="A path from a CSV file with a header: x,y,z (length unit) and "
-                                     "optionally qw,qx,qy,qz or roll,pitch,yaw (deg), in a workpiece "
-                                     "frame placed by --frame. Without orientation columns the gun "
+                                     "optionally qw,qx,qy,qz or roll,pitch,yaw (deg) and spray (1/0), in a "
+                                     "workpiece frame placed by --frame. Without orientation columns the gun "
                                      "points along -z of the workpiece (x along its x).")
     f.add_argument("file", metavar="FILE.csv", help="the path")
     f.add_argument("--frame", nargs=6, type=float, default=None, metavar=("X", "Y", "Z", "R", "P", "YAW"),
@@ -121,6 +140,15 @@ def run(args) -> int:
         raise CliError(f"--config must be 1..8; got {args.config}")
     if args.frames < 2:
         raise CliError(f"--frames must be at least 2; got {args.frames}")
+    if args.speed is not None and args.duration is not None:
+        raise CliError("give --speed (the process speed) or --duration, not both")
+    if args.slow_down and args.speed is None:
+        raise CliError("--slow-down needs --speed")
+    for name in ("speed", "duration", "zone"):
+        v = getattr(args, name)
+        if v is not None and not (np.isfinite(v) and v > 0):
+            raise CliError(f"--{name} must be a positive number; got {v}")
+    check_program_args(args)
     try:
         if args.paint_kind == "raster":
             path = P.raster_path(
@@ -141,7 +169,8 @@ def run(args) -> int:
     seed = None if args.seed is None else np.radians(args.seed)
     out = FilePath(args.out)
     try:
-        result = P.paint_path(robot, path, duration=args.duration, config=args.config, seed=seed, tool=tool,
+        result = P.paint_path(robot, path, duration=args.duration, speed=args.speed, slow_down=args.slow_down,
+                              zone=args.zone, config=args.config, seed=seed, tool=tool,
                               keep=args.keep, ramp=args.ramp, kind=args.spline, tolerance=args.tolerance,
                               rate=args.rate, rescale=args.rescale, progress=True)
     except P.PathNotFeasible as exc:
@@ -157,12 +186,53 @@ def run(args) -> int:
     written.append(out / "report.txt")
     if not args.no_plots:
         written.append(P.plot_joint_trajectory(result.trajectory, out / "figure12.png", robot=result.robot))
+        written += timing_plots(result.robot, result.trajectory, out)
         written.append(P.plot_path_3d(result.robot, result.trajectory, out / "path3d.png",
                                       postures=max(1, args.postures)))
         if not args.no_animation:
             name = "animation.gif" if args.animation_format == "gif" else "animation.html"
             written.append(P.animate_painting(result.robot, result.trajectory, out / name,
                                               frames=args.frames))
+    written += program_outputs(args, result.robot, result.path, result.trajectory)
     print(report)
     print("wrote " + ", ".join(str(w) for w in written))
     return 0
+
+
+def check_program_args(args) -> None:
+    """CliError for a ``--signal`` that is no RAPID identifier or a ``--rapid``/``--program``
+    file in a directory that does not exist (checked before any work)."""
+    from pathlib import Path as FilePath
+
+    from ...painting.program import _IDENT
+
+    if not _IDENT.match(args.signal):
+        raise CliError(f"--signal must be a RAPID identifier (a letter, then letters, digits or _); "
+                       f"got {args.signal!r}")
+    for opt in ("rapid", "program"):
+        f = getattr(args, opt)
+        if f is not None and not FilePath(f).parent.is_dir():
+            raise CliError(f"--{opt}: no such directory {FilePath(f).parent}")
+
+
+def timing_plots(robot, trajectory, out) -> list:
+    """The gun speed against time and the joint speeds and accelerations with their limits."""
+    from ... import painting as P
+
+    return [P.plot_gun_speed(trajectory, out / "gun_speed.png", robot=robot),
+            P.plot_joint_limits(trajectory, out / "joint_limits.png", robot)]
+
+
+def program_outputs(args, robot, path, trajectory) -> list:
+    """The RAPID module and the JSON program asked for with ``--rapid`` and ``--program``."""
+    from ... import painting as P
+
+    if args.rapid is None and args.program is None:
+        return []
+    program = P.make_program(robot, path, trajectory, signal=args.signal, zone=args.zone)
+    written = []
+    if args.rapid is not None:
+        written.append(P.write_rapid(program, args.rapid))
+    if args.program is not None:
+        written.append(P.write_program_json(program, args.program))
+    return written
