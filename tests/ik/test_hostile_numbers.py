@@ -121,6 +121,14 @@ def test_non_finite_single_seed_raises(robot, T1, bad):
             call()
 
 
+def test_paper_iteration_start_angle_periodic_or_refused(robot, T1):
+    res = robot.ik_paper(T1, 1, theta5_start=1e300)
+    assert res.ok and _reference_ok(robot, res.q, T1)
+    for bad in (np.nan, np.inf):
+        with pytest.raises(ValueError, match="theta5_start must be a finite"):
+            robot.ik_paper(T1, 1, theta5_start=bad)
+
+
 def test_batch_seeds_per_row_bad_rows_marked_rest_solved(robot, rng):
     Q = rng.uniform(robot.lower, robot.upper, (12, 6))
     T = np.array([dh_product(q) for q in Q])

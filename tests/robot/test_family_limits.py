@@ -10,6 +10,7 @@ tolerance is refused at load with a FamilyError naming the parameter.
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -198,3 +199,9 @@ def test_limits_are_named_constants_and_documented():
     for name in ("MIN_SIZE", "MIN_RELATIVE_TOLERANCE", "MIN_LINK_RATIO", "MAX_ANGLE_PARAMETER",
                  "MAX_JOINT_ANGLE", "MAX_WITHIN_LIMITS_ROWS", "LIMIT_SLACK"):
         assert name in doc, name
+    assert (family.MIN_SIZE, family.MIN_RELATIVE_TOLERANCE, family.MIN_LINK_RATIO) == (1e-6, 1e-14, 1e-4)
+    assert (family.MAX_ANGLE_PARAMETER, family.MAX_JOINT_ANGLE) == (1e6, 100.0)  # the values the page states
+    blocks = re.findall(r"```python\n(.*?)```", doc, re.S)
+    assert blocks
+    for code in blocks:  # the page's examples run
+        exec(compile(code, "ranges.md", "exec"), {})
