@@ -317,6 +317,13 @@ case("irb_uniform", lambda: irb.ik_all(irb.fk(irb_q)))
 case("irb_straight", lambda: irb.ik_all(irb.fk([0.3, 0.2, -0.4, 0.5, 0.0, -0.7])))
 case("paper_elbow_stretched", lambda: robot.ik_all(robot.fk([0.4, 0.3, np.pi / 2, 0.2, 0.9, -0.3])))
 case("paper_shoulder", lambda: robot.ik_all(robot.fk([0.0, 1.5707963267341256, 1.5707963267341256, 0, 0, 0])))
+from ik7r.robot.model import Robot
+flipped = Robot(name="flipped", dh=np.array([
+    [0, 0, -300, 0.3], [-150, -np.pi / 2, 40, -1.0], [-1100, 0, -90, 2.5], [-120, -np.pi / 2, -1000, 0.7],
+    [0, np.radians(30), -90, 0.4], [0, np.radians(-60), -90, -0.9], [0, np.radians(30), -110, 1.2]]),
+    joint_sign=[-1, 1, -1, 1, -1, -1, 1], coupling=(-1.0, -0.5))
+qf = [0.4, -0.3, 1.1, 2.0, -0.8, 0.6]
+case("all_signs_flipped", lambda: flipped.ik_all(flipped.fk(qf)))
 far = np.eye(4); far[:3, 3] = [1e300, -1e299, 1e298]
 case("far_ik_all", lambda: robot.ik_all(far))
 case("far_ik", lambda: robot.ik(far, 1))
@@ -368,4 +375,6 @@ def test_compiled_and_pure_python_agree_on_every_case(robot):
     assert _reference_ok(robot, q[[0, 2]], T1)
     for name in ("negative_a2", "offset_1e6"):  # the source is among the solutions of its own pose
         assert angle_distance(np.array(compiled[name]["value"]), Q_SIM1).min() < 1e-9, name
+    assert angle_distance(np.array(compiled["all_signs_flipped"]["value"]),
+                          np.array([0.4, -0.3, 1.1, 2.0, -0.8, 0.6])).min() < 1e-9
     assert wrap(np.array(compiled["ik_1e300"]["value"]) - Q_SIM1).max() < 1e-9
