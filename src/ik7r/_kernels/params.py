@@ -73,10 +73,11 @@ MAX_SOLUTIONS = 32
 def pack(robot) -> np.ndarray:
     """The parameter vector ``K`` of ``robot`` (read-only ``float64``, ``SIZE`` long)."""
     f = robot.family
+    dh = f.dh  # the table in the solvers' frames (the same robot: ik7r.robot.family.frame_dh)
     K = np.zeros(BASE_SIZE)
-    K[DH:DH + 28] = robot.dh.reshape(-1)
+    K[DH:DH + 28] = dh.reshape(-1)
     K[SIGN:SIGN + 7] = robot.joint_sign
-    K[MIMIC:MIMIC + 2] = robot.coupling
+    K[MIMIC:MIMIC + 2] = robot.coupling[0], f.coupling_offset
     K[BASE:BASE + 16] = robot.base.reshape(-1)
     K[BASE_INV:BASE_INV + 16] = invert(robot.base).reshape(-1)
     K[TOOL:TOOL + 16] = robot.tool.reshape(-1)
@@ -89,22 +90,22 @@ def pack(robot) -> np.ndarray:
     K[DEVIATION] = f.deviation
     K[PRODUCT] = 0.0 if f.zero_offsets else 1.0
     K[SCALE] = f.scale
-    K[POS_TOL] = min(1e-9, 1e-12 * f.scale)
+    K[POS_TOL] = f.position_tolerance
     K[ROT_TOL] = 1e-12
     K[NCHEB] = 8 if f.zero_offsets else 16
     K[LIMITS:LIMITS + 6] = robot.lower
     K[LIMITS + 6:LIMITS + 12] = robot.upper
     K[NDH:NDH + 28] = f.nominal_dh.reshape(-1)
-    for t, table in enumerate((robot.dh, f.nominal_dh)):  # cos, sin of every twist
+    for t, table in enumerate((dh, f.nominal_dh)):  # cos, sin of every twist
         K[TRIG + 14 * t:TRIG + 14 * (t + 1):2] = np.cos(table[:, 1])
         K[TRIG + 14 * t + 1:TRIG + 14 * (t + 1):2] = np.sin(table[:, 1])
-    K[OFFSET_TRIG:OFFSET_TRIG + 14:2] = np.cos(robot.dh[:, 3])
-    K[OFFSET_TRIG + 1:OFFSET_TRIG + 14:2] = np.sin(robot.dh[:, 3])
+    K[OFFSET_TRIG:OFFSET_TRIG + 14:2] = np.cos(dh[:, 3])
+    K[OFFSET_TRIG + 1:OFFSET_TRIG + 14:2] = np.sin(dh[:, 3])
     steps = []
     for k in range(HOMOTOPY_STEPS):  # models on the way from the nominal to the exact one
         t = (k + 1) / (HOMOTOPY_STEPS + 1)
         Kt = K.copy()
-        dh_t = f.nominal_dh + t * (robot.dh - f.nominal_dh)
+        dh_t = f.nominal_dh + t * (dh - f.nominal_dh)
         Kt[DH:DH + 28] = dh_t.reshape(-1)
         Kt[TRIG:TRIG + 14:2] = np.cos(dh_t[:, 1])
         Kt[TRIG + 1:TRIG + 14:2] = np.sin(dh_t[:, 1])

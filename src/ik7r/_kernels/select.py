@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from ..robot.family import MAX_JOINT_ANGLE
 from . import params as L
 from .complete import WORK_SIZE, solve_all, solve_config, solve_into, wrap
 from .jit import njit
@@ -33,75 +34,126 @@ def matches(q, arm, elbow, wrist):
     return w == wrist
 
 
+#: Solutions this close (rad) outside a joint limit count as inside, and are set onto it: the
+#: 2 pi shifts of the multi-turn expansion round by a few ulps (4e-15 rad moves a tool at the
+#: largest extent the family admits by under half its position tolerance).
+LIMIT_SLACK = 4e-15
+TWO_PI = 2.0 * math.pi
+
+
+@njit
+def turn_range(x, lo, hi):
+    """``(k0, k1)``: the turns k with ``x + 2 pi k`` inside ``[lo, hi]`` (none when k1 < k0)."""
+    k0 = math.ceil((lo - LIMIT_SLACK - x) / TWO_PI)
+    k1 = math.floor((hi + LIMIT_SLACK - x) / TWO_PI)
+    return k0, k1
+
+
+@njit
+def shifted(x, k, lo, hi):
+    """``x + 2 pi k`` set onto the limits it is within LIMIT_SLACK of."""
+    return min(hi, max(lo, x + TWO_PI * k))
+
+
+@njit
+def count_within_limits(sols, n, K):
+    """How many rows :func:`expand_within_limits` writes for ``sols[:n]`` (the sum over the
+    solutions of the product of each joint's number of turns inside the limits)."""
+    lo = K[L.LIMITS:L.LIMITS + 6]
+    hi = K[L.LIMITS + 6:L.LIMITS + 12]
+    total = 0
+    for s in range(n):
+        prod = 1
+        for j in range(6):
+            k0, k1 = turn_range(sols[s, j], lo[j], hi[j])
+            prod *= max(0, k1 - k0 + 1)
+        total += prod
+    return total
+
+
 @njit(allocates=True)
 def expand_within_limits(sols, n, K, out):
     """Every solution of ``sols[:n]`` shifted by multiples of 2 pi per joint into the joint
-    limits (multi-turn joints give several); returns how many were written to ``out``."""
+    limits (multi-turn joints give several) into ``out``, which must have
+    :func:`count_within_limits` rows (the caller sizes it); returns the number written, or -1
+    when ``out`` is too small (nothing is dropped silently)."""
     lo = K[L.LIMITS:L.LIMITS + 6]
     hi = K[L.LIMITS + 6:L.LIMITS + 12]
     count = 0
     first = np.empty(6, np.int64)
     nturn = np.empty(6, np.int64)
-    idx = np.empty(6, np.int64)
     for s in range(n):
         total = 1
         for j in range(6):
-            k0 = math.ceil((lo[j] - sols[s, j]) / (2 * math.pi) - 1e-12)
-            k1 = math.floor((hi[j] - sols[s, j]) / (2 * math.pi) + 1e-12)
+            k0, k1 = turn_range(sols[s, j], lo[j], hi[j])
             first[j] = k0
             nturn[j] = max(0, k1 - k0 + 1)
             total *= nturn[j]
+        if count + total > out.shape[0]:
+            return -1
         for t in range(total):
             r = t
             for j in range(6):
-                idx[j] = r % nturn[j]
+                out[count, j] = shifted(sols[s, j], first[j] + r % nturn[j], lo[j], hi[j])
                 r //= nturn[j]
-            if count >= out.shape[0]:
-                return count
-            for j in range(6):
-                v = sols[s, j] + 2 * math.pi * (first[j] + idx[j])
-                out[count, j] = min(hi[j], max(lo[j], v))
             count += 1
     return count
 
 
 @njit
-def nearest(sols, n, seed, wrapped):
-    """Index of the solution of ``sols[:n]`` nearest ``seed`` (sum of squared joint
-    differences, wrapped to (-pi, pi] when ``wrapped``); ties go to the first."""
-    best = -1
-    bestd = np.inf
-    for s in range(n):
-        dist = 0.0
-        for j in range(6):
-            dj = sols[s, j] - seed[j]
-            if wrapped:
-                dj = wrap(dj)
-            dist += dj * dj
-        if dist < bestd - 1e-12:
-            bestd = dist
-            best = s
-    return best
+def nearest_within_limits(q, seed, K, out):
+    """The multi-turn equivalent of ``q`` inside the limits nearest ``seed`` (joint by joint:
+    the distance is a sum over joints) into ``out``; False when some joint has no turn inside."""
+    for j in range(6):
+        lo = K[L.LIMITS + j]
+        hi = K[L.LIMITS + 6 + j]
+        k0, k1 = turn_range(q[j], lo, hi)
+        if k1 < k0:
+            return False
+        k = min(k1, max(k0, math.floor((seed[j] - q[j]) / TWO_PI + 0.5)))
+        out[j] = shifted(q[j], k, lo, hi)
+    return True
+
+
+@njit
+def reduced_seed(seed, out):
+    """``seed`` with every joint beyond MAX_JOINT_ANGLE (``ik7r.robot.family``) reduced modulo 2 pi
+    to (-pi, pi] into ``out`` (seeds are periodic; such a value lies outside every joint's
+    limits, so no turn is lost)."""
+    for j in range(6):
+        x = seed[j]
+        out[j] = x if abs(x) <= MAX_JOINT_ANGLE else np_wrap(x)
 
 
 @njit(allocates=True)
 def select(sols, n, arm, elbow, wrist, seed, within_limits, K, q_out):
-    """Pick the solution with the indicators nearest ``seed``; False when there is none."""
-    pool = np.empty((sols.shape[0] * 16 if within_limits else sols.shape[0], 6))
-    m = 0
+    """Pick the solution with the indicators nearest ``seed`` (wrapped distance; with
+    ``within_limits`` the nearest multi-turn equivalent inside the limits, not wrapped);
+    False when there is none."""
+    best = -1.0
+    cand = np.empty(6)
+    found = False
     for s in range(n):
-        if matches(sols[s], arm, elbow, wrist):
-            pool[m] = sols[s]
-            m += 1
-    if within_limits:
-        expanded = np.empty((pool.shape[0], 6))
-        m = expand_within_limits(pool, m, K, expanded)
-        pool = expanded
-    k = nearest(pool, m, seed, not within_limits)
-    if k < 0:
-        return False
-    q_out[:] = pool[k]
-    return True
+        if not matches(sols[s], arm, elbow, wrist):
+            continue
+        if within_limits:
+            if not nearest_within_limits(sols[s], seed, K, cand):
+                continue
+        else:
+            for j in range(6):
+                cand[j] = sols[s, j]
+        dist = 0.0
+        for j in range(6):
+            dj = cand[j] - seed[j]
+            if not within_limits:
+                dj = wrap(dj)
+            dist += dj * dj
+        if not found or dist < best - 1e-12:
+            best = dist
+            found = True
+            for j in range(6):
+                q_out[j] = cand[j]
+    return found
 
 
 # ---------------------------------------------------------------------- fused entry points
@@ -178,27 +230,32 @@ def _finite6(x):
 
 
 @njit(allocates=True)
-def ik_all_one(T, tol, K, Bm, bnorm, hint, has_hint, within_limits, out):
-    """Validate one pose ``T`` (4, 4), solve it and sort the solutions into ``out``.
+def ik_all_one(T, tol, K, Bm, bnorm, hint, has_hint, within_limits, sols, out):
+    """Validate one pose ``T`` (4, 4), solve it and sort the solutions into ``sols``
+    (MAX_SOLUTIONS rows, wrapped); with ``within_limits`` instead every multi-turn equivalent
+    inside the limits, sorted, into ``out`` when it has room for them all (``sols`` unsorted).
 
-    Returns the number of solutions, -1 when ``T`` is not a valid pose or -2 when the hint
-    is not finite (the caller says why). With ``within_limits`` every multi-turn equivalent
-    inside the limits is written (``out`` needs ``64 * MAX_SOLUTIONS`` rows)."""
+    Returns ``(n, total)``: the number of solutions (-1 when ``T`` is not a valid pose, -2 when
+    the hint is not finite: the caller says why) and, with ``within_limits``, the number of
+    equivalents inside the limits (written to ``out`` only when ``total <= len(out)``; else the
+    caller sizes an output and expands ``sols`` itself). A hint beyond MAX_JOINT_ANGLE is
+    reduced (see :func:`reduced_seed`)."""
     clean = np.empty((4, 4))
     if validate_pose(T, tol, clean, np.empty((3, 3))) != 0:
-        return -1
+        return -1, 0
     if has_hint and not _finite6(hint):
-        return -2
-    sols = np.empty((L.MAX_SOLUTIONS, 6))
-    n = solve_all(clean, K, Bm, bnorm, hint, has_hint, sols)
-    if within_limits:
-        n = expand_within_limits(sols, n, K, out[:max(1, n) * 64])
-    else:
-        for s in range(n):
-            for j in range(6):
-                out[s, j] = sols[s, j]
-    sort_solutions(out, n)
-    return n
+        return -2, 0
+    h = np.empty(6)
+    reduced_seed(hint, h)
+    n = solve_all(clean, K, Bm, bnorm, h, has_hint, sols)
+    if not within_limits:
+        sort_solutions(sols, n)
+        return n, 0
+    total = count_within_limits(sols, n, K)
+    if total <= out.shape[0]:
+        expand_within_limits(sols, n, K, out)
+        sort_solutions(out, total)
+    return n, total
 
 
 @njit(allocates=True)
@@ -207,16 +264,19 @@ def ik_one(T, tol, K, Bm, bnorm, arm, elbow, wrist, hint, has_hint, within_limit
 
     Returns ``(n, found)``: the number of solutions of the pose (left in ``sols``; -1 when
     ``T`` is not a valid pose, -2 when the hint is not finite) and whether one with the
-    indicators was written to ``q_out``."""
+    indicators was written to ``q_out``. A hint beyond MAX_JOINT_ANGLE is reduced (see
+    :func:`reduced_seed`)."""
     clean = np.empty((4, 4))
     if validate_pose(T, tol, clean, np.empty((3, 3))) != 0:
         return -1, False
     if has_hint and not _finite6(hint):
         return -2, False
-    n = solve_config(clean, K, Bm, bnorm, hint, has_hint, arm, elbow, wrist, sols)
-    found = select(sols[:max(1, n)], n, arm, elbow, wrist, hint, within_limits, K, q_out)
+    h = np.empty(6)
+    reduced_seed(hint, h)
+    n = solve_config(clean, K, Bm, bnorm, h, has_hint, arm, elbow, wrist, sols)
+    found = select(sols[:max(1, n)], n, arm, elbow, wrist, h, within_limits, K, q_out)
     if not found:  # the whole solution set, for the caller's message
-        n = solve_all(clean, K, Bm, bnorm, hint, has_hint, sols)
+        n = solve_all(clean, K, Bm, bnorm, h, has_hint, sols)
     return n, found
 
 

@@ -46,6 +46,7 @@ def track(Ts, K, Bm, bnorm, arm, elbow, wrist, seed, has_seed, within_limits, ma
     J_ = np.empty((6, 6))
     e_ = np.empty(6)
     dq_ = np.empty(6)
+    keep = np.empty(6)
     zo_ = np.empty((7, 6))
     sols = np.empty((L.MAX_SOLUTIONS, 6))
     have_prev = has_seed
@@ -77,7 +78,13 @@ def track(Ts, K, Bm, bnorm, arm, elbow, wrist, seed, has_seed, within_limits, ma
             if select(sols, m, arm, elbow, wrist, prev, within_limits, K, q):
                 if have_prev and not within_limits:
                     for j in range(6):  # continue the previous turn of every joint
+                        keep[j] = q[j]
                         q[j] = prev[j] + wrap(q[j] - prev[j])
+                    # the shifted joints are verified too (a far turn rounds them); when they
+                    # miss, the exact wrapped solution is kept
+                    if not polish_into(q, Ts[i], K, 0, T_, J_, e_, dq_, zo_):
+                        for j in range(6):
+                            q[j] = keep[j]
                 done = True
         if done:
             ok_out[i] = True

@@ -31,6 +31,7 @@ _EXPORTS = {
     "check_finite": "checks",
     "transforms_status": "checks",
     "poses_status": "checks",
+    "reduce_seeds": "checks",
 }
 
 if TYPE_CHECKING:  # the names, for type checkers and IDEs
@@ -41,6 +42,7 @@ if TYPE_CHECKING:  # the names, for type checkers and IDEs
         check_joints,
         check_transforms,
         poses_status,
+        reduce_seeds,
         transforms_status,
     )
     from .configs import config_number, config_of_indicators, describe_config, indicators
@@ -74,6 +76,7 @@ __all__ = [
     "matrix_to_quat",
     "matrix_to_rpy",
     "nearest_rotation",
+    "reduce_seeds",
     "poses_status",
     "quat_to_matrix",
     "rot_x",

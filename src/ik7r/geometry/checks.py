@@ -11,6 +11,7 @@ __all__ = [
     "check_transforms",
     "check_config",
     "check_finite",
+    "reduce_seeds",
     "transforms_status",
     "poses_status",
 ]
@@ -40,6 +41,19 @@ def check_joints(q, name: str = "q", ndof: int = 6) -> np.ndarray:
         )
     check_finite(arr, name)
     return arr
+
+
+def reduce_seeds(s: np.ndarray) -> np.ndarray:
+    """Seeds (..., 6) with every joint beyond ``ik7r.robot.family.MAX_JOINT_ANGLE`` reduced modulo
+    2 pi to (-pi, pi]: seeds are periodic, and such a value lies outside every joint's limits
+    (the kernels' ``reduced_seed`` does the same, bit for bit)."""
+    from ..robot.family import MAX_JOINT_ANGLE
+    from .rotations import wrap_angle
+
+    s = np.asarray(s, dtype=float)
+    if np.all(np.abs(s) <= MAX_JOINT_ANGLE):
+        return s
+    return np.where(np.abs(s) <= MAX_JOINT_ANGLE, s, wrap_angle(s))
 
 
 def _as_transforms(T, name: str) -> np.ndarray:

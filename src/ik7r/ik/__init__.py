@@ -15,6 +15,7 @@ _EXPORTS = {
     "ik_batch": "solve",
     "ik_all_batch": "solve",
     "MAX_SOLUTIONS": "solve",
+    "MAX_WITHIN_LIMITS_ROWS": "solve",
     "num_threads": "solve",
     "threads_for": "solve",
     "PathIK": "path",
@@ -47,7 +48,16 @@ if TYPE_CHECKING:  # the names, for type checkers and IDEs
     from .numeric import NumericResult, damped_least_squares, manipulability, newton_raphson
     from .paper import PaperResult, ik_paper
     from .path import PathIK, ik_path
-    from .solve import MAX_SOLUTIONS, ik, ik_all, ik_all_batch, ik_batch, num_threads, threads_for
+    from .solve import (
+        MAX_SOLUTIONS,
+        MAX_WITHIN_LIMITS_ROWS,
+        ik,
+        ik_all,
+        ik_all_batch,
+        ik_batch,
+        num_threads,
+        threads_for,
+    )
 
 __getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, ('solve', 'path', 'chunked', 'paper', 'numeric'))
 __all__ = [
@@ -56,6 +66,7 @@ __all__ = [
     "DEFAULT_CHUNK",
     "FromJoints",
     "MAX_SOLUTIONS",
+    "MAX_WITHIN_LIMITS_ROWS",
     "NumericResult",
     "PaperResult",
     "PathIK",

@@ -83,7 +83,8 @@ def ik_paper(robot, T, config=1, *, theta5_start=None, tol: float = 1e-14,
         World <- tool pose.
     config : int or (arm, elbow, wrist)
     theta5_start : float, optional
-        Initial theta5 (rad); default random in the Wrist indicator's half (the paper).
+        Initial theta5 (rad, periodic: reduced modulo 2 pi); default random in the Wrist
+        indicator's half (the paper). NaN or infinity raise ValueError.
     tol : float
         Stop when ``|theta5_new - theta5| <= tol`` (rad).
     max_iter : int
@@ -101,6 +102,9 @@ def ik_paper(robot, T, config=1, *, theta5_start=None, tol: float = 1e-14,
         rng = np.random.default_rng() if rng is None else rng
         theta5_start = sign * rng.uniform(0.0, math.pi)
     t5 = float(theta5_start)
+    if not math.isfinite(t5):
+        raise ValueError(f"theta5_start must be a finite angle in rad; got {theta5_start!r}")
+    t5 = math.remainder(t5, 2 * math.pi)  # periodic (a start angle): reduced to [-pi, pi]
     hist_t5, hist_err, hist_time = [], [], []
     q = np.zeros(6)
     T = np.empty((4, 4))

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry.checks import check_config, check_joints, poses_status
+from ..geometry.checks import check_config, check_joints, poses_status, reduce_seeds
 
 __all__ = ["PathIK", "ik_path"]
 
@@ -55,7 +55,8 @@ def ik_path(robot, T, config=1, *, seed=None, within_limits: bool = False,
         The configuration to keep (1..8, the paper's Appendix 3).
     seed : array_like, shape (6,), optional
         Joints (rad) to start from; without it the first pose takes the solution nearest the
-        zero posture.
+        zero posture. Periodic: joints beyond ``ik7r.robot.family.MAX_JOINT_ANGLE`` are reduced modulo
+        2 pi first (the rows then continue from the reduced value).
     within_limits : bool
         Keep every row inside the joint limits (multi-turn joints included).
     max_step : float
@@ -78,6 +79,7 @@ def ik_path(robot, T, config=1, *, seed=None, within_limits: bool = False,
     s = check_joints(seed, "seed").astype(float) if has_seed else np.zeros(6)
     if s.shape != (6,):
         raise ValueError(f"seed must have shape (6,); got {s.shape}")
+    s = reduce_seeds(s)  # periodic: joints beyond MAX_JOINT_ANGLE are reduced modulo 2 pi
     n = Tc.shape[0]
     q = np.empty((n, 6))
     ok = np.zeros(n, dtype=bool)

@@ -12,20 +12,31 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from .._kernels import all_rows, bernstein_tables, config_rows, ik_all_one, ik_one
+from .._kernels import (
+    all_rows,
+    bernstein_tables,
+    config_rows,
+    count_within_limits,
+    expand_within_limits,
+    ik_all_one,
+    ik_one,
+)
 from .._kernels import params as L
 from ..errors import UnreachableError
 from ..geometry.checks import (
     ORTHONORMAL_TOL,
     check_config,
+    check_finite,
     check_joints,
     check_transforms,
     pose_batch,
     poses_status_into,
+    reduce_seeds,
 )
 from ..geometry.configs import config_number, describe_config
 
-__all__ = ["ik_all", "ik", "ik_batch", "ik_all_batch", "MAX_SOLUTIONS", "num_threads", "threads_for"]
+__all__ = ["ik_all", "ik", "ik_batch", "ik_all_batch", "MAX_SOLUTIONS", "MAX_WITHIN_LIMITS_ROWS",
+           "num_threads", "threads_for"]
 
 #: Most solutions one pose can have (see :mod:`ik7r._kernels.poly`): the width K of ``ik_all_batch``.
 MAX_SOLUTIONS = L.MAX_SOLUTIONS
@@ -94,6 +105,30 @@ def _seed(seed, shape, T=None):
     return np.ascontiguousarray(np.broadcast_to(s, shape), dtype=float), True
 
 
+def _batch_seeds(seed, n: int):
+    """The seeds of ``ik_batch``: ``(seeds (N, 6) or (1, 6), given, ok (N,) or None)``. Seeds are
+    periodic: joints beyond MAX_JOINT_ANGLE are reduced modulo 2 pi (:func:`reduce_seeds`).
+    One (6,) seed must be finite (it is the argument that is bad); of (N, 6) seeds, a row with
+    NaN or infinity makes only its own pose not ok."""
+    if seed is None:
+        return np.zeros((1, 6)), False, None
+    try:
+        arr = np.asarray(seed, dtype=float)
+    except (TypeError, ValueError):
+        arr = None
+    if arr is not None and arr.shape == (1, 6):
+        arr = arr[0]
+    if arr is None or arr.ndim not in (1, 2) or arr.shape[-1] != 6 or (arr.ndim == 2 and arr.shape[0] != n):
+        raise ValueError(f"seed must have shape (6,) or ({n}, 6) (joints [q1, q2, q3, q4, q5, q7] in rad); "
+                         f"got {getattr(arr, 'shape', seed)!r}")
+    if arr.ndim == 1:
+        check_finite(arr, "seed")
+        return np.ascontiguousarray(np.broadcast_to(reduce_seeds(arr), (n, 6))), True, None
+    ok = np.isfinite(arr).all(axis=1)
+    clean = np.where(ok[:, None], arr, 0.0)
+    return np.ascontiguousarray(reduce_seeds(clean)), True, (None if ok.all() else ok)
+
+
 def _bad_input(T, seed) -> None:
     """Raise the ValueError of the checks for a pose or seed a kernel rejected."""
     check_transforms(T)
@@ -121,10 +156,12 @@ def ik_all(robot, T, *, within_limits: bool = False, seed=None) -> np.ndarray:
         World <- tool pose (robot length unit).
     within_limits : bool
         Keep only solutions inside the joint limits, with every multi-turn equivalent
-        (joints whose range exceeds 2 pi, such as q4 and q7) inside the limits.
+        (joints whose range exceeds 2 pi, such as q4 and q7) inside the limits. The output is
+        sized to hold them all; more than :data:`MAX_WITHIN_LIMITS_ROWS` raise ValueError.
     seed : array_like, shape (6,), optional
         Chooses the free joints at singular poses (q4 / q7 split at a straight wrist, q1 when
-        axis 7 lies on axis 1); default q4 = 0, q1 = 0.
+        axis 7 lies on axis 1); default q4 = 0, q1 = 0. Periodic: joints beyond
+        ``ik7r.robot.family.MAX_JOINT_ANGLE`` are reduced modulo 2 pi first.
 
     Returns
     -------
@@ -136,12 +173,45 @@ def ik_all(robot, T, *, within_limits: bool = False, seed=None) -> np.ndarray:
     T = _one_pose(T, "ik_all_batch")
     hint, has = _seed(seed, (6,), T)
     Bm, bnorm = bernstein_tables(robot.kernel_params)
-    out = np.empty((MAX_SOLUTIONS * 64 if within_limits else MAX_SOLUTIONS, 6))
-    n = ik_all_one(T, ORTHONORMAL_TOL, robot.kernel_params, Bm, bnorm, hint, has,
-                   bool(within_limits), out)
+    sols = np.empty((MAX_SOLUTIONS, 6))
+    out = _NO_ROWS if not within_limits else np.empty((WITHIN_LIMITS_ROWS, 6))
+    K = robot.kernel_params
+    n, total = ik_all_one(T, ORTHONORMAL_TOL, K, Bm, bnorm, hint, has, bool(within_limits), sols, out)
     if n < 0:
         _bad_input(T, seed)
-    return out[:n].copy() if within_limits else out[:n]
+    if not within_limits:
+        return sols[:n]
+    if total <= len(out):
+        return out[:total].copy()
+    return _expanded(sols, n, K)
+
+
+#: Rows ``ik_all(T, within_limits=True)`` expands into in its one compiled call; more are
+#: expanded by :func:`_expanded` into an output of their exact size.
+WITHIN_LIMITS_ROWS = 64 * MAX_SOLUTIONS
+_NO_ROWS = np.empty((0, 6))
+
+
+#: Most rows ``ik_all(T, within_limits=True)`` returns (every multi-turn equivalent inside the
+#: limits); limits whose expansion exceeds it raise ValueError rather than drop rows.
+MAX_WITHIN_LIMITS_ROWS = 100_000
+
+
+def _expanded(sols: np.ndarray, n: int, K: np.ndarray) -> np.ndarray:
+    """Every multi-turn equivalent of ``sols[:n]`` inside the joint limits, sorted by
+    configuration number then joints; the output is sized to hold them all."""
+    total = count_within_limits(sols, n, K)
+    if total > MAX_WITHIN_LIMITS_ROWS:
+        raise ValueError(
+            f"ik_all(within_limits=True) would return {total} rows (every multi-turn equivalent of "
+            f"{n} solutions inside the joint limits), more than MAX_WITHIN_LIMITS_ROWS = "
+            f"{MAX_WITHIN_LIMITS_ROWS}; narrow the limits, or use ik(T, config, seed=..., "
+            "within_limits=True) for the one nearest a seed")
+    out = np.empty((total, 6))
+    if expand_within_limits(sols, n, K, out) != total:  # pragma: no cover - sized above
+        raise AssertionError("the multi-turn expansion did not fill its output")
+    order = np.lexsort(tuple(out[:, j] for j in range(5, -1, -1)) + (config_number(out),))
+    return out[order]
 
 
 def ik(robot, T, config=1, *, seed=None, within_limits: bool = False) -> np.ndarray:
@@ -157,7 +227,8 @@ def ik(robot, T, config=1, *, seed=None, within_limits: bool = False) -> np.ndar
     seed : array_like, shape (6,), optional
         When several solutions share the indicators (poses with 12 or 16 solutions) the one
         nearest ``seed`` is returned; without a seed, the one nearest the zero posture. The seed
-        also splits q4 / q7 at a straight wrist.
+        also splits q4 / q7 at a straight wrist. Periodic: joints beyond
+        ``ik7r.robot.family.MAX_JOINT_ANGLE`` are reduced modulo 2 pi first.
     within_limits : bool
         Only solutions inside the joint limits (multi-turn equivalents included); the one
         nearest the seed (not wrapped) is returned.
@@ -203,21 +274,21 @@ def ik_batch(robot, T, config=1, *, seed=None, within_limits: bool = False):
     T : array_like, shape (N, 4, 4)
     config : int or (arm, elbow, wrist)
     seed : array_like, shape (6,) or (N, 6), optional
+        Periodic, as in :func:`ik`. One (6,) seed must be finite; of (N, 6) seeds, a row with
+        NaN or infinity makes only its pose not ok.
 
     Returns
     -------
     q : ndarray, shape (N, 6)
         Solutions (rad); rows that are not ok hold NaN.
     ok : ndarray, shape (N,), bool
-        False for a bad pose (NaN, non-orthonormal rotation) or an unreachable one; every other
-        row is still solved.
+        False for a bad pose (NaN, non-orthonormal rotation), a bad seed row or an unreachable
+        pose; every other row is still solved.
     """
     arm, elbow, wrist = check_config(config)
     T = pose_batch(T)
     n = T.shape[0]
-    seeds, has = _seed(seed, (n, 6))
-    if not has:
-        seeds = seeds[None]
+    seeds, has, seed_ok = _batch_seeds(seed, n)
     q = np.empty((n, 6))
     ok = np.empty(n, dtype=bool)
     Tc = np.empty_like(T)
@@ -227,6 +298,8 @@ def ik_batch(robot, T, config=1, *, seed=None, within_limits: bool = False):
 
     def work(a, b):
         poses_status_into(T[a:b], Tc[a:b], good[a:b])
+        if seed_ok is not None:
+            good[a:b] &= seed_ok[a:b]
         config_rows(Tc[a:b], K, Bm, bnorm, arm, elbow, wrist, seeds[a:b] if has else seeds, has,
                     bool(within_limits), good[a:b], q[a:b], ok[a:b])
 

@@ -36,11 +36,29 @@ _EXPORTS = {
     "ANGLE_TOL": "family",
     "LENGTH_TOL": "family",
     "MAX_BETA": "family",
+    "MIN_SIZE": "family",
+    "MIN_RELATIVE_TOLERANCE": "family",
+    "MIN_LINK_RATIO": "family",
+    "MAX_ANGLE_PARAMETER": "family",
+    "MAX_JOINT_ANGLE": "family",
+    "frame_dh": "family",
     "DEFAULT_JOINT_NAMES": "model",
 }
 
 if TYPE_CHECKING:  # the names, for type checkers and IDEs
-    from .family import ANGLE_TOL, LENGTH_TOL, MAX_BETA, Family, family_of
+    from .family import (
+        ANGLE_TOL,
+        LENGTH_TOL,
+        MAX_ANGLE_PARAMETER,
+        MAX_BETA,
+        MAX_JOINT_ANGLE,
+        MIN_LINK_RATIO,
+        MIN_RELATIVE_TOLERANCE,
+        MIN_SIZE,
+        Family,
+        family_of,
+        frame_dh,
+    )
     from .files import BUILTIN_ROBOTS, load_robot, robot_from_toml, robot_in_unit
     from .model import DEFAULT_JOINT_NAMES, Robot
     from .urdf import (
@@ -61,11 +79,17 @@ __all__ = [
     "FK_CHECK_TOL",
     "Family",
     "LENGTH_TOL",
+    "MAX_ANGLE_PARAMETER",
     "MAX_BETA",
+    "MAX_JOINT_ANGLE",
+    "MIN_LINK_RATIO",
+    "MIN_RELATIVE_TOLERANCE",
+    "MIN_SIZE",
     "PARALLEL_TOL",
     "Robot",
     "UrdfChain",
     "family_of",
+    "frame_dh",
     "load_robot",
     "read_chain",
     "robot_from_toml",

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from fractions import Fraction
 
 import numpy as np
 
@@ -34,6 +35,69 @@ LENGTH_TOL = 1e-3
 #: back parallel to axis 4 and its virtual wrist centre is at infinity (the search runs in
 #: u = 1 / d, which stays bounded).
 MAX_BETA = math.radians(45.0)
+
+# ------------------------------------------------------------------ numeric ranges (issue 12)
+# A member is refused (FamilyError naming the parameter) when float arithmetic cannot meet the
+# promised tolerances (docs/guide/ranges.md derives these numbers).
+
+#: Smallest robot size (``Family.scale``, the robot's unit): below it the residual polynomial's
+#: terms (up to the 24th power of a length) leave the float range.
+MIN_SIZE = 1e-6
+#: ``position_tolerance`` must be at least this fraction of the robot's extent (its size plus
+#: ``|d1|``, ``|d2|``, ``|d3|`` and the base and tool translations): the float spacing of the
+#: coordinates (1.1e-16 of them) leaves room for the solver's rounding. With the tolerance
+#: ``min(1e-9, 1e-12 size)`` this admits robots up to 1e5 units (100 m in mm) and bases or
+#: tools up to 100 times the robot's size away.
+MIN_RELATIVE_TOLERANCE = 1e-14
+#: The upper arm ``|a2|`` and the wrist offsets ``|d5| = |d6|`` must be at least this fraction
+#: of the size: with ``a2 = 0`` joints 2 and 3 turn about one axis, with ``d5 = d6 = 0`` the four
+#: wrist axes meet in one point (neither robot has six degrees of freedom).
+MIN_LINK_RATIO = 1e-4
+#: Largest |angle| (rad) of a DH twist, theta offset or coupling offset given in radians; smaller
+#: ones are reduced modulo 2 pi exactly (TOML files give degrees, reduced modulo 360 exactly, so
+#: any finite value in degrees is accepted).
+MAX_ANGLE_PARAMETER = 1e6
+#: Largest |joint limit| (rad, 15.9 turns): beyond it the float spacing of the angle and of its
+#: 2 pi multiples (the multi-turn expansion) would move the tool by more than the tolerance.
+#: Seeds are periodic: a seed joint beyond it is reduced modulo 2 pi to (-pi, pi].
+MAX_JOINT_ANGLE = 100.0
+
+# 2 pi to 40 digits, for reducing angles without the rounding of the float 2 pi
+_TWO_PI_EXACT = Fraction("6.283185307179586476925286766559005768394")
+
+
+def reduce_angle(x: float, name: str = "angle") -> float:
+    """``x`` (rad) reduced modulo 2 pi to [-pi, pi] with the exact 2 pi (not the float one, whose
+    multiples drift by 2.4e-16 per turn); a FamilyError naming ``name`` beyond
+    :data:`MAX_ANGLE_PARAMETER`."""
+    x = float(x)
+    if not abs(x) <= MAX_ANGLE_PARAMETER:
+        raise FamilyError(f"{name} must be within +-{MAX_ANGLE_PARAMETER:g} rad; got {x!r}")
+    if abs(x) <= math.pi:
+        return x
+    k = round(x / (2 * math.pi))
+    return float(Fraction(x) - k * _TWO_PI_EXACT)
+
+
+def frame_dh(dh: np.ndarray) -> tuple[np.ndarray, bool]:
+    """The DH table ``dh`` (7, 4) in the frames the solvers use, the same robot (the same forward
+    kinematics for the same user joints): twists and theta offsets reduced modulo 2 pi, and a
+    negative upper arm ``a2`` made positive by turning frame 2 by pi about its z axis (``a2`` and
+    ``alpha2`` change sign, ``pi`` moves from theta3's offset to theta2's). Returns the table and
+    whether the upper arm was flipped."""
+    out = np.array(dh, dtype=float)
+    for i in range(7):
+        out[i, 1] = reduce_angle(out[i, 1], f"alpha{i} (joint {i + 1})")
+        out[i, 3] = reduce_angle(out[i, 3], f"theta_offset{i + 1} (joint {i + 1})")
+    flipped = bool(out[2, 0] < 0.0)
+    if flipped:
+        # T12 RotZ(pi) and RotZ(-pi) T23 = RotX(-alpha2) TransX(-a2) RotZ(theta3 - pi) TransZ(d3)
+        out[2, 0] = -out[2, 0]
+        out[2, 1] = -out[2, 1]
+        out[1, 3] = math.remainder(out[1, 3] + math.pi, 2 * math.pi)
+        out[2, 3] = math.remainder(out[2, 3] - math.pi, 2 * math.pi)
+    out.setflags(write=False)
+    return out, flipped
 
 
 @dataclass(frozen=True)
@@ -53,11 +117,18 @@ class Family:
     d7: float
     deviation: float  # largest difference between the nominal and the exact DH table
     nominal_dh: np.ndarray  # (7, 4) the idealised DH table
+    dh: np.ndarray | None = None  # (7, 4) the exact table in the solvers' frames (frame_dh)
+    coupling_offset: float = 0.0  # the coupling offset reduced modulo 2 pi
 
     @property
     def scale(self) -> float:
         """A characteristic length of the robot (its reach)."""
         return abs(self.a1) + abs(self.a2) + abs(self.a3) + abs(self.d4) + 2 * abs(self.dw) + abs(self.d7)
+
+    @property
+    def position_tolerance(self) -> float:
+        """Largest position residual of a returned solution (see :func:`position_tolerance`)."""
+        return position_tolerance(self.scale)
 
     @property
     def zero_offsets(self) -> bool:
@@ -84,13 +155,18 @@ def _near(x: float, target: float, tol: float) -> bool:
 def family_of(dh: np.ndarray, sign: np.ndarray, coupling: tuple[float, float],
               joint_names: tuple[str, ...]) -> Family:
     """Check that the DH table ``dh`` (7, 4) describes a family member; return its nominal
-    parameters. Raises :class:`~ik7r.errors.FamilyError` naming the joint that does not fit."""
+    parameters. Raises :class:`~ik7r.errors.FamilyError` naming the joint that does not fit,
+    or the parameter whose magnitude the solver cannot meet its tolerances with (see the
+    numeric ranges above). The table is first put in the solvers' frames (:func:`frame_dh`)."""
+    dh, _ = frame_dh(dh)
     a, al, d, off = (dh[:, k] for k in range(4))
     size = abs(a[1]) + abs(a[2]) + abs(a[3]) + abs(d[3]) + abs(d[4]) + abs(d[5]) + abs(d[6])
-    ltol = LENGTH_TOL * max(size, 1e-300)
 
     def fail(i: int, what: str) -> FamilyError:
         return FamilyError(f"joint {i + 1} ({joint_names[i]}): {what}")
+
+    _check_magnitudes(dh, size, fail)
+    ltol = LENGTH_TOL * size
 
     if abs(a[0]) > 0 or abs(al[0]) > 0:
         raise fail(0, "frame 0 must sit on axis 1 (a0 = alpha0 = 0); move the rest into the base")
@@ -123,6 +199,7 @@ def family_of(dh: np.ndarray, sign: np.ndarray, coupling: tuple[float, float],
     if abs(d[4] - d[5]) > ltol:
         raise fail(5, f"the wrist must be a mirror: d5 = d6 within {ltol:.3g}; got {d[4]:.6g} and {d[5]:.6g}")
     m, c = coupling
+    c = reduce_angle(c, "the coupling offset")
     if abs(sign[5] * m / sign[4] + 1.0) > 1e-9:
         raise fail(5, f"joint 6 must mirror joint 5 (theta6 = -theta5); got multiplier {m:g}")
     mirror_offset = sign[5] * c + off[5] + off[4]
@@ -144,5 +221,54 @@ def family_of(dh: np.ndarray, sign: np.ndarray, coupling: tuple[float, float],
     return Family(
         a1=float(a[1]), a2=float(a[2]), a3=float(a[3]), b=float(d[1] + d[2]), d1=float(d[0]),
         d4=float(d[3]), eps1=eps1, eps3=eps3, beta=float(beta), dw=float(dw), d7=float(d[6]),
-        deviation=deviation, nominal_dh=nominal,
+        deviation=deviation, nominal_dh=nominal, dh=dh, coupling_offset=float(c),
     )
+
+
+#: Names of the DH lengths (row i: a_{i-1}, d_i) in messages.
+_LENGTH_NAMES = [(f"a{i}", f"d{i + 1}") for i in range(7)]
+
+
+def _check_magnitudes(dh: np.ndarray, size: float, fail) -> None:
+    """Refuse lengths the solver cannot meet its tolerances with: a size outside
+    [MIN_SIZE, ...], a degenerate upper arm or wrist offset, an extent whose float spacing is
+    above MIN_RELATIVE_TOLERANCE of the position tolerance."""
+    lengths = [(abs(dh[i, k]), i, _LENGTH_NAMES[i][k // 2]) for i in range(7) for k in (0, 2)]
+    big, i_big, name_big = max(lengths)
+    if not size >= MIN_SIZE:
+        raise fail(i_big, f"the robot's size (|a1| + |a2| + |a3| + |d4| + |d5| + |d6| + |d7| = {size:.6g}) "
+                   f"must be at least MIN_SIZE = {MIN_SIZE:g} of its unit (rescale the unit); "
+                   f"the largest length is {name_big} = {dh[i_big, 0 if name_big[0] == 'a' else 2]:.6g}")
+    extent = size + abs(dh[0, 2]) + abs(dh[1, 2]) + abs(dh[2, 2])
+    tol = position_tolerance(size)
+    if extent * MIN_RELATIVE_TOLERANCE > tol:
+        raise fail(i_big, f"lengths up to {tol / MIN_RELATIVE_TOLERANCE:.6g} (the position tolerance "
+                   f"{tol:g} over MIN_RELATIVE_TOLERANCE = {MIN_RELATIVE_TOLERANCE:g}) can be solved to "
+                   f"the tolerance; got {name_big} = {dh[i_big, 0 if name_big[0] == 'a' else 2]:.6g} "
+                   f"(extent {extent:.6g}; use a larger length unit)")
+    if abs(dh[2, 0]) < MIN_LINK_RATIO * size:
+        raise fail(2, f"the upper arm a2 must not vanish (|a2| >= MIN_LINK_RATIO = {MIN_LINK_RATIO:g} "
+                   f"times the size {size:.6g}: else joints 2 and 3 turn about one axis); got {dh[2, 0]:.6g}")
+    dw = 0.5 * (abs(dh[4, 2]) + abs(dh[5, 2]))
+    if dw < MIN_LINK_RATIO * size:
+        raise fail(4, f"the wrist offsets d5 = d6 must not vanish (>= MIN_LINK_RATIO = {MIN_LINK_RATIO:g} "
+                   f"times the size {size:.6g}: else the four wrist axes meet in one point); got "
+                   f"d5 = {dh[4, 2]:.6g}, d6 = {dh[5, 2]:.6g}")
+
+
+def position_tolerance(size: float) -> float:
+    """The position tolerance of a robot of this size: 1e-9 of its unit, or 1e-12 of its size if
+    smaller."""
+    return min(1e-9, 1e-12 * size)
+
+
+def check_placement(T: np.ndarray, size: float, name: str) -> None:
+    """Refuse a base or tool transform whose translation puts the tool so far away that the
+    float spacing of its coordinates exceeds MIN_RELATIVE_TOLERANCE of the tolerance."""
+    far = float(np.abs(T[:3, 3]).sum())
+    tol = position_tolerance(size)
+    if (far + size) * MIN_RELATIVE_TOLERANCE > tol:
+        raise FamilyError(f"{name}: translations up to {tol / MIN_RELATIVE_TOLERANCE - size:.6g} (the "
+                          f"position tolerance {tol:g} over MIN_RELATIVE_TOLERANCE = "
+                          f"{MIN_RELATIVE_TOLERANCE:g}, less the size) can be solved to the tolerance; "
+                          f"got {T[:3, 3].tolist()}")

@@ -167,7 +167,12 @@ def robot_from_toml(text: str, source: str = "<string>") -> Robot:
     names = data.get("joint_names", list(DEFAULT_JOINT_NAMES))
     if not (isinstance(names, list) and len(names) == 7 and all(isinstance(n, str) for n in names)):
         raise RobotFileError(f"{source}: 'joint_names' must be a list of 7 strings")
-    dh = np.stack([a, np.radians(alpha), d, np.radians(off) if off is not None else np.zeros(7)], 1)
+    # angles in degrees are periodic: reduced modulo 360 exactly (IEEE remainder) before the
+    # conversion to radians, so an offset of 1e6 deg keeps its full precision
+    alpha = _reduced_degrees(alpha)
+    off = _reduced_degrees(off) if off is not None else np.zeros(7)
+    coff = _reduced_degrees(np.array([float(coff)]))[0]
+    dh = np.stack([a, np.radians(alpha), d, np.radians(off)], 1)
     try:
         return Robot(
             name=data["name"], dh=dh, unit=data["unit"], lower=np.radians(lower),
@@ -184,6 +189,11 @@ def robot_from_toml(text: str, source: str = "<string>") -> Robot:
         raise FamilyError(f"{source}: {exc}") from exc
     except ValueError as exc:
         raise RobotFileError(f"{source}: {exc}") from exc
+
+
+def _reduced_degrees(x: np.ndarray) -> np.ndarray:
+    """Angles (deg) reduced to [-180, 180] exactly (the IEEE remainder of a float is exact)."""
+    return np.array([math.remainder(float(v), 360.0) if 180.0 < abs(v) < math.inf else float(v) for v in x])
 
 
 def robot_in_unit(robot: Robot, unit: str) -> Robot:

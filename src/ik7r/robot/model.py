@@ -15,7 +15,7 @@ import numpy as np
 
 from .._kernels import params as L
 from ..geometry.checks import check_joints
-from .family import Family, family_of
+from .family import MAX_JOINT_ANGLE, Family, check_placement, family_of
 
 __all__ = ["Robot"]
 
@@ -61,7 +61,8 @@ class Robot:
         Length unit of ``dh``, ``base`` and ``tool`` (``"mm"`` for the paper robot, ``"m"``
         for URDF robots).
     lower, upper : array_like, shape (6,)
-        Joint limits of the independent joints ``[q1, q2, q3, q4, q5, q7]`` (rad).
+        Joint limits of the independent joints ``[q1, q2, q3, q4, q5, q7]`` (rad), within
+        +-``ik7r.robot.family.MAX_JOINT_ANGLE`` (100 rad; see docs/guide/ranges.md for every range).
     velocity, acceleration : array_like, shape (6,), optional
         Joint speed (rad/s) and acceleration (rad/s^2) limits.
     coupling : (float, float)
@@ -93,6 +94,13 @@ class Robot:
     def __post_init__(self) -> None:
         put = object.__setattr__
         put(self, "dh", _frozen(self.dh, (7, 4), "dh"))
+        for key in ("lower", "upper"):
+            lim = np.array(getattr(self, key), dtype=float)
+            if lim.shape == (6,) and not np.all(np.abs(lim) <= MAX_JOINT_ANGLE):  # (NaN too)
+                raise ValueError(
+                    f"{key} limits must be finite and within +-MAX_JOINT_ANGLE = {MAX_JOINT_ANGLE:g} rad "
+                    f"({math.degrees(MAX_JOINT_ANGLE):.6g} deg, {MAX_JOINT_ANGLE / (2 * math.pi):.3g} turns: "
+                    f"beyond it float spacing cannot meet the tolerance); got {lim.tolist()}")
         put(self, "lower", _frozen(self.lower, (6,), "lower"))
         put(self, "upper", _frozen(self.upper, (6,), "upper"))
         if np.any(self.lower > self.upper):
@@ -125,7 +133,10 @@ class Robot:
         put(self, "joint_names", names)
         put(self, "unit", str(self.unit))
         # raises FamilyError (a ValueError) naming the joint that is not of the family
-        put(self, "_family", family_of(self.dh, self.joint_sign, self.coupling, names))
+        fam = family_of(self.dh, self.joint_sign, self.coupling, names)
+        put(self, "_family", fam)
+        for key in ("base", "tool"):
+            check_placement(getattr(self, key), fam.scale, key)
 
     # ------------------------------------------------------------------ description
     @property
