@@ -198,6 +198,7 @@ def family_of(dh: np.ndarray, sign: np.ndarray, coupling: tuple[float, float],
     beta = math.copysign(min(abs(beta), MAX_BETA), beta)
     if abs(d[4] - d[5]) > ltol:
         raise fail(5, f"the wrist must be a mirror: d5 = d6 within {ltol:.3g}; got {d[4]:.6g} and {d[5]:.6g}")
+    _check_links(dh, size, fail)
     m, c = coupling
     c = reduce_angle(c, "the coupling offset")
     if abs(sign[5] * m / sign[4] + 1.0) > 1e-9:
@@ -231,8 +232,8 @@ _LENGTH_NAMES = [(f"a{i}", f"d{i + 1}") for i in range(7)]
 
 def _check_magnitudes(dh: np.ndarray, size: float, fail) -> None:
     """Refuse lengths the solver cannot meet its tolerances with: a size outside
-    [MIN_SIZE, ...], a degenerate upper arm or wrist offset, an extent whose float spacing is
-    above MIN_RELATIVE_TOLERANCE of the position tolerance."""
+    [MIN_SIZE, ...], an extent whose float spacing is
+    above MIN_RELATIVE_TOLERANCE of the position tolerance (see also :func:`_check_links`)."""
     lengths = [(abs(dh[i, k]), i, _LENGTH_NAMES[i][k // 2]) for i in range(7) for k in (0, 2)]
     big, i_big, name_big = max(lengths)
     if not size >= MIN_SIZE:
@@ -246,6 +247,11 @@ def _check_magnitudes(dh: np.ndarray, size: float, fail) -> None:
                    f"{tol:g} over MIN_RELATIVE_TOLERANCE = {MIN_RELATIVE_TOLERANCE:g}) can be solved to "
                    f"the tolerance; got {name_big} = {dh[i_big, 0 if name_big[0] == 'a' else 2]:.6g} "
                    f"(extent {extent:.6g}; use a larger length unit)")
+
+
+def _check_links(dh: np.ndarray, size: float, fail) -> None:
+    """Refuse a degenerate upper arm or wrist offset (checked after the chain's shape, so that a
+    chain of the wrong shape is named for its shape)."""
     if abs(dh[2, 0]) < MIN_LINK_RATIO * size:
         raise fail(2, f"the upper arm a2 must not vanish (|a2| >= MIN_LINK_RATIO = {MIN_LINK_RATIO:g} "
                    f"times the size {size:.6g}: else joints 2 and 3 turn about one axis); got {dh[2, 0]:.6g}")
