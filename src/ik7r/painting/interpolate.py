@@ -155,7 +155,7 @@ class Trajectory:
     tolerance : float
         The deviation tolerance (length unit).
     speed_ratio, acceleration_ratio : ndarray, shape (6,)
-        Peak |dq| / velocity limit and peak |ddq| / acceleration limit per joint (NaN when the
+        Peak ``|dq|`` / velocity limit and peak ``|ddq|`` / acceleration limit per joint (NaN when the
         robot has no such limits).
     kind : str
         ``"quintic"`` or ``"cubic"``.
