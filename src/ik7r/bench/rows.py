@@ -11,10 +11,15 @@ import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .report import Row, Sizes
+
+if TYPE_CHECKING:
+    from ..ik.numeric import NumericResult
+    from ..ik.paper import PaperResult
 from .verify import fk_ok
 
 #: The paper's reported MATLAB times: one pose, one point of a trajectory (ms).
@@ -105,7 +110,7 @@ def _baseline_rows(robot, rng, sizes: Sizes, ratio_s, want_pinocchio: bool, skip
     Tp = robot.fk(Qp)
     cfg = robot.config_of(Qp)
     robot.ik_paper(Tp[0], int(cfg[0]), rng=np.random.default_rng(0))
-    results = []
+    results: list[PaperResult] = []
 
     def paper():
         results.clear()
@@ -115,7 +120,8 @@ def _baseline_rows(robot, rng, sizes: Sizes, ratio_s, want_pinocchio: bool, skip
 
     t = _best(paper, min(sizes.repeats, 2)) / len(Qp)
     oks = [r for r in results if r.ok]
-    fails = sum(int(not fk_ok(robot, r.q[None], Tp[i][None])[0]) for i, r in enumerate(results) if r.ok)
+    fails = sum(1 for i, r in enumerate(results)
+                if r.ok and r.q is not None and not fk_ok(robot, r.q[None], Tp[i][None])[0])
     iters = np.mean([r.iterations for r in results])
     rows.append(Row("ik_paper (the paper's iteration, ours in Python)", "baseline", len(Qp), t, "call",
                     "single", ratio_s(t), solved=len(oks), failures=fails,
@@ -129,7 +135,7 @@ def _baseline_rows(robot, rng, sizes: Sizes, ratio_s, want_pinocchio: bool, skip
                          ("numeric.damped_least_squares", damped_least_squares)):
         say(name)
         solver(robot, Tn[0], starts[0])
-        res = []
+        res: list[NumericResult] = []
 
         def run(solver=solver, res=res):
             res.clear()
@@ -137,9 +143,10 @@ def _baseline_rows(robot, rng, sizes: Sizes, ratio_s, want_pinocchio: bool, skip
                 res.append(solver(robot, Tn[i], starts[i]))
 
         t = _best(run, min(sizes.repeats, 2)) / len(Qn)
-        fails = sum(int(not fk_ok(robot, r.q[None], Tn[i][None])[0]) for i, r in enumerate(res) if r.ok)
+        fails = sum(1 for i, r in enumerate(res)
+                    if r.ok and r.q is not None and not fk_ok(robot, r.q[None], Tn[i][None])[0])
         rows.append(Row(name, "baseline", len(Qn), t, "call", "single", ratio_s(t),
-                        solved=sum(r.ok for r in res), failures=fails,
+                        solved=sum(int(r.ok) for r in res), failures=fails,
                         note="start: the solution + U(-0.2, 0.2) rad"))
 
     say("scipy least_squares")
@@ -170,7 +177,7 @@ def _scipy_row(robot, Tn, starts, ratio_s, sizes: Sizes) -> Row:
         e[3:] = 0.5 * np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
         return e
 
-    out = []
+    out: list[np.ndarray] = []
 
     def run():
         out.clear()
@@ -222,7 +229,7 @@ def _pinocchio_row(robot, Tn, starts, ratio_s, sizes: Sizes) -> Row | str:
         return q, False
 
     solve(Tn[0], starts[0])
-    out = []
+    out: list[tuple[np.ndarray, bool]] = []
 
     def run():
         out.clear()

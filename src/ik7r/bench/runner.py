@@ -52,7 +52,7 @@ def machine_info() -> dict:
         usable = len(os.sched_getaffinity(0))
     except AttributeError:  # pragma: no cover
         usable = os.cpu_count() or 1
-    info = {"cpu": cpu, "cores": os.cpu_count(), "usable_cores": usable,
+    info: dict[str, object] = {"cpu": cpu, "cores": os.cpu_count(), "usable_cores": usable,
             "platform": platform.platform(), "python": platform.python_version()}
     try:
         info["load_average"] = [round(x, 2) for x in os.getloadavg()]

@@ -2,14 +2,20 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ..geometry.rotations import dh_transform, wrap_angle
 
+if TYPE_CHECKING:
+    from .._typing import ArrayLike
+    from ..robot.model import Robot
+
 __all__ = ["numpy_fk", "fk_ok", "same_solution", "verify_all"]
 
 
-def numpy_fk(robot, q) -> np.ndarray:
+def numpy_fk(robot: Robot, q: ArrayLike) -> np.ndarray:
     """The yardstick: plain vectorised numpy forward kinematics, the product of the seven
     eq. (1) matrices (with the robot's base and tool when they are not the identity).
 
