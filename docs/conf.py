@@ -37,7 +37,8 @@ extensions = [
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"
 templates_path = ["_templates"]
-exclude_patterns = ["_build", "_templates", "README.md", "**/README.md", "sg_execution_times.rst"]
+exclude_patterns = ["_build", "_templates", "_generated", "README.md", "**/README.md",
+                    "sg_execution_times.rst"]
 # the generated command-line reference is included under its page's title, so starts at H2
 suppress_warnings = ["myst.header"]
 
@@ -78,3 +79,4 @@ sphinx_gallery_conf = {
     "min_reported_time": 1,
     "write_computation_times": False,
 }
+smartquotes = False  # "--option" stays two hyphens

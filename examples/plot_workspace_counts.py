@@ -4,9 +4,11 @@ How many solutions, where
 
 The number of solutions of a pose over a slice of the workspace: tool positions in the
 base's x-z plane (y = 0), the gun pointing down, every pose solved at once by
-``robot.ik_all_batch``. The paper's "at most eight" holds almost everywhere; near the
-boundaries the count drops (4) or, in thin regions, rises to 12 or 16, where one arm branch
-holds several fixed points of the paper's iteration.
+``robot.ik_all_batch``. On this slice a pose has 8 solutions, or 4 where only one shoulder
+branch reaches it; on the line x = 0 the wrist centre lies on axis 1 (the shoulder
+singularity), where q1 is free and one member of each family is returned. Other
+orientations have poses with 12 or 16 solutions (one arm branch holding several fixed points
+of the paper's iteration), which the paper's "at most eight" misses.
 """
 
 import matplotlib.pyplot as plt
@@ -37,9 +39,10 @@ print("largest position error (mm):", np.abs(Tq[:, :3, 3] - target[:, :3, 3]).ma
 
 # %%
 fig, ax = plt.subplots(figsize=(7.5, 6.5))
-levels = np.arange(-0.5, count.max() + 1.5, 1)
-im = ax.pcolormesh(X, Z, count, cmap="viridis", shading="auto", vmin=0, vmax=max(16, count.max()))
-fig.colorbar(im, ax=ax, label="number of solutions")
+top = max(16, int(count.max()))
+cmap = plt.get_cmap("viridis", top // 4 + 1)               # one colour per multiple of 4
+im = ax.pcolormesh(X, Z, count, cmap=cmap, shading="auto", vmin=-2, vmax=top + 2)
+fig.colorbar(im, ax=ax, label="number of solutions", ticks=range(0, top + 1, 4))
 ax.set_xlabel("x (mm)")
 ax.set_ylabel("z (mm)")
 ax.set_aspect("equal")

@@ -29,8 +29,8 @@ from .errors import FamilyError, Ik7rError, RobotFileError, UnreachableError
 
 if TYPE_CHECKING:  # the lazy names below, as type checkers and IDEs should see them
     from ._kernels.params import MAX_SOLUTIONS
-    from .robot.model import Robot
     from .robot.files import load_robot
+    from .robot.model import Robot
 
 __version__ = "0.1.0"
 

@@ -40,7 +40,7 @@ LITERAL_PARAMETERS = frozenset({"kind"})
 #: Rough first-compile times (s, 2 cores) of the entry points a first call compiles, with
 #: everything they call: what the notice says.
 COMPILE_SECONDS = {"fk_batch": 5, "fk_user": 5, "ik_all_one": 40, "ik_one": 40, "all_rows": 40,
-                   "config_rows": 40, "track": 40}
+                   "config_rows": 40, "track_path": 40}
 
 _njit: Any = None
 if JIT_ENABLED:

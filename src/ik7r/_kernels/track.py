@@ -29,8 +29,8 @@ def _within(q, K):
 
 
 @njit(allocates=True)
-def track(Ts, K, Bm, bnorm, arm, elbow, wrist, seed, has_seed, within_limits, max_step,
-          ok_in, q_out, ok_out, tracked_out):
+def track_path(Ts, K, Bm, bnorm, arm, elbow, wrist, seed, has_seed, within_limits, max_step,
+               ok_in, q_out, ok_out, tracked_out):
     """Solve the poses ``Ts`` (N, 4, 4) in order, each from the previous solution.
 
     Rows are continuous (not wrapped): a joint that turns past pi keeps turning. ``ok_out[i]``

@@ -17,9 +17,9 @@ import numpy as np
 
 def main(argv: list[str]) -> None:
     import ik7r
-    from ik7r.ik.chunked import RandomPoses, solve_all_chunked
     from ik7r.bench.rows import SEED
     from ik7r.bench.verify import verify_all
+    from ik7r.ik.chunked import RandomPoses, solve_all_chunked
 
     n = int(argv[0])
     robot = ik7r.load_robot(argv[1] if len(argv) > 1 else None)

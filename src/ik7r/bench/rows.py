@@ -299,8 +299,8 @@ def _cold_row() -> Row:
 
 
 def _startup_rows(reps: int, cold: bool = False) -> list[Row]:
-    from ..robot.files import load_robot
     from ..geometry.rotations import matrix_to_rpy
+    from ..robot.files import load_robot
 
     rows = []
     runs = [r for r in (_probe([]) for _ in range(max(2, reps))) if r is not None]

@@ -36,8 +36,8 @@ from ..geometry.checks import check_joints
 
 if TYPE_CHECKING:
     from .._typing import PathLike
-    from ..robot.model import Robot
     from ..progress import Progress
+    from ..robot.model import Robot
 
 __all__ = [
     "ChunkResult",

@@ -72,7 +72,7 @@ def ik_path(robot: Robot, T: ArrayLike, config: Config = 1, *, seed: ArrayLike |
     -------
     PathIK
     """
-    from .._kernels import bernstein_tables, track
+    from .._kernels import bernstein_tables, track_path
 
     arm, elbow, wrist = check_config(config)
     Tc, good = poses_status(T)
@@ -89,10 +89,9 @@ def ik_path(robot: Robot, T: ArrayLike, config: Config = 1, *, seed: ArrayLike |
     ok = np.zeros(n, dtype=bool)
     tracked = np.zeros(n, dtype=bool)
     Bm, bnorm = bernstein_tables(robot.kernel_params)
-    # the export "track" shares its name with the module _kernels.track, which wins once imported
-    track(np.ascontiguousarray(Tc), robot.kernel_params, Bm, bnorm, arm, elbow, wrist,  # type: ignore[operator]
-                 np.ascontiguousarray(s), has_seed, bool(within_limits), float(max_step),
-                 np.ascontiguousarray(good), q, ok, tracked)
+    track_path(np.ascontiguousarray(Tc), robot.kernel_params, Bm, bnorm, arm, elbow, wrist,
+               np.ascontiguousarray(s), has_seed, bool(within_limits), float(max_step),
+               np.ascontiguousarray(good), q, ok, tracked)
     for arr in (q, ok, tracked):
         arr.setflags(write=False)
     return PathIK(q=q, ok=ok, tracked=tracked)

@@ -15,8 +15,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._kernels import params as L
-from ..geometry.checks import check_joints
 from .._typing import ArrayLike, Config
+from ..geometry.checks import check_joints
 from .family import Family, family_of
 
 if TYPE_CHECKING:
