@@ -35,7 +35,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/film.py
 
 lint: $(STAMP)
-	$(BIN)/ruff check src tests $(wildcard benchmarks)
+	$(BIN)/ruff check src tests $(wildcard benchmarks) $(wildcard examples) docs/conf.py docs/_ext
 
 clean:
 	rm -rf $(VENV) build src/*.egg-info .pytest_cache .mypy_cache docs/_build docs/auto_examples docs/api/generated docs/_generated
