@@ -12,6 +12,7 @@ exceeded, ...). Angles are stored in rad and printed in degrees; joint indices a
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -255,7 +256,7 @@ class DeviationExceeded(PathEvent):
                 f"round it or sample it more densely")
 
 
-def format_report(events) -> str:
+def format_report(events: Sequence[PathEvent]) -> str:
     """The events, one per line (blocking ones marked ``ERROR``), or ``'no events'``."""
     if not events:
         return "no events"

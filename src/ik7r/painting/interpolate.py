@@ -19,6 +19,13 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .._typing import ArrayLike
+    from ..robot.model import Robot
+    from .events import PathEvent
+
 import math
 from dataclasses import dataclass, field
 
@@ -100,7 +107,7 @@ class Timing:
         """Path speed between the ramps (length unit per s)."""
         return self.length / (self.duration - self.ramp)
 
-    def u_of_t(self, t) -> np.ndarray:
+    def u_of_t(self, t: ArrayLike) -> np.ndarray:
         """Path parameter at times ``t`` (clipped to [0, duration])."""
         t = np.clip(np.asarray(t, dtype=float), 0.0, self.duration)
         V, tau, D = self.speed, self.ramp, self.duration
@@ -109,7 +116,7 @@ class Timing:
         end = self.length - V * tau * _ramp_u((D - t) / tau)
         return np.where(t < tau, start, np.where(t > D - tau, end, mid))
 
-    def t_of_u(self, u) -> np.ndarray:
+    def t_of_u(self, u: ArrayLike) -> np.ndarray:
         """Times at path parameters ``u`` (clipped to [0, length])."""
         u = np.clip(np.asarray(u, dtype=float), 0.0, self.length)
         V, tau, D = self.speed, self.ramp, self.duration
@@ -180,7 +187,7 @@ class Trajectory:
     kind: str
     spline: object = field(repr=False, default=None)
 
-    def evaluate(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def evaluate(self, t: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Joints, velocities and accelerations ``(M, 6)`` each at times ``t`` (M,) (s)."""
         t = np.clip(np.atleast_1d(np.asarray(t, dtype=float)), 0.0, self.duration)
         s = self.spline
@@ -259,9 +266,10 @@ def _densify(robot, path, timing, ku, kq, t_out, tol, kind, max_rounds, max_step
     return ku, kq, spline
 
 
-def interpolate(robot, solution: PathSolution, duration: float = 20.0, *, ramp: float = DEFAULT_RAMP,
+def interpolate(robot: Robot, solution: PathSolution, duration: float = 20.0, *, ramp: float = DEFAULT_RAMP,
                 kind: str = "quintic", tolerance: float | None = None, rate: float = DEFAULT_RATE,
-                rescale: bool = False, max_rounds: int = 10, max_step: float = DEFAULT_MAX_STEP):
+                rescale: bool = False, max_rounds: int = 10,
+                max_step: float = DEFAULT_MAX_STEP) -> tuple[Trajectory, list[PathEvent]]:
     """A timed, smooth joint trajectory through the IK samples of ``solution``.
 
     Parameters
