@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from . import params as L
-from .complete import WORK_SIZE, solve_all, solve_config, solve_into, wrap
+from .complete import WORK_SIZE, solve_into, wrap
 from .jit import njit
 from .validate import validate_pose
 
@@ -190,7 +190,9 @@ def ik_all_one(T, tol, K, Bm, bnorm, hint, has_hint, within_limits, out):
     if has_hint and not _finite6(hint):
         return -2
     sols = np.empty((L.MAX_SOLUTIONS, 6))
-    n = solve_all(clean, K, Bm, bnorm, hint, has_hint, sols)
+    # solve_into, not its wrapper solve_all: each compiled caller level links and re-optimises
+    # the whole solver below it, so a wrapper in between is a second compile of everything
+    n = solve_into(clean, K, Bm, bnorm, hint, has_hint, sols, -1, np.empty(WORK_SIZE))
     if within_limits:
         n = expand_within_limits(sols, n, K, out[:max(1, n) * 64])
     else:
@@ -213,10 +215,11 @@ def ik_one(T, tol, K, Bm, bnorm, arm, elbow, wrist, hint, has_hint, within_limit
         return -1, False
     if has_hint and not _finite6(hint):
         return -2, False
-    n = solve_config(clean, K, Bm, bnorm, hint, has_hint, arm, elbow, wrist, sols)
+    ws = np.empty(WORK_SIZE)  # solve_into directly (see ik_all_one)
+    n = solve_into(clean, K, Bm, bnorm, hint, has_hint, sols, 4 * arm + 2 * elbow + wrist, ws)
     found = select(sols[:max(1, n)], n, arm, elbow, wrist, hint, within_limits, K, q_out)
     if not found:  # the whole solution set, for the caller's message
-        n = solve_all(clean, K, Bm, bnorm, hint, has_hint, sols)
+        n = solve_into(clean, K, Bm, bnorm, hint, has_hint, sols, -1, ws)
     return n, found
 
 
