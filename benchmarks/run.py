@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from ik7r.benchmark import main
+from ik7r.bench import main
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -20,7 +20,7 @@ SIMULATION1_T = np.array([
     [0, 0, 0, 1],
 ])
 
-#: The paper's Table 2 (deg), OCR slips fixed as in NOTES.md; rows are configurations 1..8.
+#: The paper's Table 2 (deg), OCR slips fixed as in docs/method.md; rows are configurations 1..8.
 TABLE2_DEG = np.array([
     [60.0000, 60.0000, 0.0000, -30.0000, 60.0000, 30.0000],
     [60.0000, 60.0000, 0.0000, -159.3775, -60.0000, 159.3775],

@@ -22,8 +22,15 @@ use. The subpackages, one per concept:
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from ._lazy import lazy_exports
 from .errors import FamilyError, Ik7rError, RobotFileError, UnreachableError
+
+if TYPE_CHECKING:  # the lazy names below, as type checkers and IDEs should see them
+    from ._kernels.params import MAX_SOLUTIONS
+    from .robot.files import load_robot
+    from .robot.model import Robot
 
 __version__ = "0.1.0"
 

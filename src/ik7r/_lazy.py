@@ -10,10 +10,11 @@ from __future__ import annotations
 import importlib
 import sys
 from collections.abc import Callable
+from typing import Any
 
 
 def lazy_exports(package: str, exports: dict[str, str],
-                 modules: tuple[str, ...] = ()) -> tuple[Callable[[str], object], Callable[[], list]]:
+                 modules: tuple[str, ...] = ()) -> tuple[Callable[[str], Any], Callable[[], list]]:
     """``(__getattr__, __dir__)`` for ``package``.
 
     ``exports`` maps each public name to the submodule that defines it; ``modules`` names

@@ -9,16 +9,11 @@ import numpy as np
 import pytest
 
 import ik7r
-from ik7r.benchmark import (
-    BenchReport,
-    Sizes,
-    _same_solution,
-    _startup_rows,
-    _verify_all,
-    numpy_fk,
-    run_benchmarks,
-)
-from ik7r.cli.app import main
+from ik7r.bench import BenchReport, Sizes, numpy_fk, run_benchmarks
+from ik7r.bench.rows import _startup_rows
+from ik7r.bench.verify import same_solution as _same_solution
+from ik7r.bench.verify import verify_all as _verify_all
+from ik7r.cli import main
 
 TINY = Sizes(batch=300, single=30, trajectory=400, numeric=4, scipy=3, pinocchio=3, paper=4, repeats=1)
 
@@ -148,6 +143,8 @@ def test_startup_rows_run_the_cli():
     names = [r.name for r in rows]
     assert any(n.startswith("ik7r ik ... end to end") for n in names)
     assert any(n.startswith("import numba") for n in names)
+    assert any(n.startswith("warm: first ik_all after import ik7r") for n in names)
+    assert not any(n.startswith("cold:") for n in names)  # only when asked (it compiles)
     for r in rows:
         assert r.seconds > 0 and r.failures in (None, 0), r.name
 
@@ -169,7 +166,7 @@ def test_cli_bench_bad_input_exits_2(args, capsys):
 
 
 def test_big_chunked_row_runs_in_a_fresh_process(robot):
-    from ik7r.benchmark import _big_row
+    from ik7r.bench.rows import _big_row
 
     row = _big_row(robot, 300, lambda t: t / 1e-6)
     assert row.failures == 0 and row.n == 300

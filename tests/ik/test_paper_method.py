@@ -61,7 +61,7 @@ def test_paper_iteration_reproduces_table2(robot, config):
 
 
 def test_equation11_pose(robot):
-    # eq. (11): the independent joints are [30, 60, -60, -30, 60, 30] deg (NOTES.md)
+    # eq. (11): the independent joints are [30, 60, -60, -30, 60, 30] deg (docs/method.md, "Conventions")
     q_true = np.radians([30, 60, -60, -30, 60, 30])
     T = dh_product(q_true)
     config = int(robot.config_of(q_true))

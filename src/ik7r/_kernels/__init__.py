@@ -36,7 +36,7 @@ _EXPORTS = {
     "frame07": "complete",
     "all_rows": "select", "config_rows": "select", "ik_all_one": "select", "ik_one": "select",
     "count_within_limits": "select", "expand_within_limits": "select",
-    "track": "track",
+    "track_path": "track",
     "film_kernel": "film",
     "validate_pose": "validate", "validate_poses": "validate",
 }
@@ -64,7 +64,7 @@ __all__ = [
     "residual",
     "solve6",
     "theta5_of_cos_bend",
-    "track",
+    "track_path",
     "user_angle",
     "validate_pose",
     "validate_poses",

@@ -4,24 +4,107 @@ The kernels are written in the subset of Python that numba compiles. When numba 
 importable they run as plain Python (slow, but the same code and the same answers).
 Compiled kernels are cached on disk (``cache=True``), so the compile cost is paid once per
 installation, not at import time and not per process.
+
+Two things happen here beside compiling:
+
+- **A notice before a compile.** An entry point called from Python whose numba cache index
+  does not exist yet (a fresh installation, or an edited kernel file) is about to compile:
+  one line on stderr says what, roughly how long it takes and that it happens once
+  (``IK7R_QUIET=1`` silences it). Detecting this costs a look at the entry point's cache
+  index (exists, and written for this source) on the first call of each entry point of a
+  process (when numba looks for a compiled version), nothing afterwards.
+- **One specialisation per kernel.** numba compiles a kernel called from another kernel once
+  per distinct argument *type*, and a constant argument (``polish(q, T, K, 30)``, a count
+  that starts at ``0``, ``True``) has its own literal type: the same kernel was compiled
+  three or four times, each time with everything it calls. Calls from kernels are typed
+  with the literal types widened (``int64``, ``bool``), except for the parameters in
+  :data:`LITERAL_PARAMETERS`, which select a variant at compile time on purpose.
 """
 
 from __future__ import annotations
 
 import os
+import sys
+from typing import Any
 
 #: ``IK7R_JIT=0`` runs the kernels as plain Python without importing numba: the command line
 #: sets it for one-shot commands (``ik7r fk``, ``ik7r ik``), where numba's start-up (about 0.5 s)
 #: costs more than solving one pose in Python.
 JIT_ENABLED = os.environ.get("IK7R_JIT", "1") != "0"
 
-_njit = None
+#: Parameters whose constant value picks a variant of the kernel at compile time (numba prunes
+#: the branches of the other): ``kind``, the residual of :mod:`ik7r._kernels.poly` (0 general, 1 with
+#: theta1 fixed). Every other constant argument is widened to its plain type.
+LITERAL_PARAMETERS = frozenset({"kind"})
+
+#: Rough first-compile times (s, 2 cores) of the entry points a first call compiles, with
+#: everything they call: what the notice says.
+COMPILE_SECONDS = {"fk_batch": 5, "fk_user": 5, "ik_all_one": 40, "ik_one": 40, "all_rows": 40,
+                   "config_rows": 40, "track_path": 40}
+
+_njit: Any = None
 if JIT_ENABLED:
     try:  # pragma: no cover - exercised implicitly
         from numba import njit as _njit
-
     except ImportError:  # pragma: no cover
         _njit = None
+
+_announced: set[str] = set()
+
+
+def _cache_is_cold(dispatcher) -> bool:
+    """Whether ``dispatcher``'s first call compiles: no numba cache index on disk, or one
+    written for another version of its source file (numba then recompiles)."""
+    cache = getattr(dispatcher, "_cache", None)
+    index: Any = getattr(cache, "_cache_file", None)
+    try:
+        if not os.path.exists(index._index_path):
+            return True
+        return not index._load_index()  # empty when the source stamp or numba's version differ
+    except Exception:  # pragma: no cover - another numba cache layout: say nothing
+        return False
+
+
+def compile_notice(name: str) -> str:
+    """The line printed before entry point ``name`` compiles."""
+    seconds = COMPILE_SECONDS.get(name, 10)
+    return (f"ik7r: compiling the numba kernels of {name} (about {seconds} s on 2 cores); this happens "
+            "once per installation, later runs load them from the cache")
+
+
+def _with_notice(dispatcher):
+    """Print :func:`compile_notice` on stderr before ``dispatcher``'s first compile from Python."""
+    compile_for_args = dispatcher._compile_for_args
+    name = dispatcher.py_func.__name__
+
+    def _compile_for_args(*args, **kws):
+        if (name not in _announced and _cache_is_cold(dispatcher)
+                and os.environ.get("IK7R_QUIET", "") in ("", "0")):
+            _announced.add(name)
+            print(compile_notice(name), file=sys.stderr, flush=True)
+        return compile_for_args(*args, **kws)
+
+    dispatcher._compile_for_args = _compile_for_args  # the call path of a missing overload
+    return dispatcher
+
+
+def _widened(dispatcher):
+    """Type calls from other kernels with their literal argument types widened (except the
+    :data:`LITERAL_PARAMETERS`), so each kernel is compiled once for its plain types."""
+    from numba.core import types
+
+    get_call_template = dispatcher.get_call_template
+    code = dispatcher.py_func.__code__
+    names = code.co_varnames[:code.co_argcount]
+    keep = [n in LITERAL_PARAMETERS for n in names]
+
+    def widened_call_template(args, kws):
+        args = tuple(a if (i < len(keep) and keep[i]) else types.unliteral(a) for i, a in enumerate(args))
+        kws = {k: (v if k in LITERAL_PARAMETERS else types.unliteral(v)) for k, v in kws.items()}
+        return get_call_template(args, kws)
+
+    dispatcher.get_call_template = widened_call_template
+    return dispatcher
 
 
 def njit(func=None, *, vector=False, allocates=False):
@@ -46,4 +129,4 @@ def njit(func=None, *, vector=False, allocates=False):
     options = {"cache": True, "nogil": True, "_nrt": bool(allocates)}
     if vector:
         options["error_model"] = "numpy"
-    return _njit(**options)(func)
+    return _with_notice(_widened(_njit(**options)(func)))

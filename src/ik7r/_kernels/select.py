@@ -9,7 +9,7 @@ import numpy as np
 
 from ..robot.family import MAX_JOINT_ANGLE
 from . import params as L
-from .complete import WORK_SIZE, solve_all, solve_config, solve_into, wrap
+from .complete import WORK_SIZE, solve_into, wrap
 from .jit import njit
 from .validate import validate_pose
 
@@ -247,7 +247,9 @@ def ik_all_one(T, tol, K, Bm, bnorm, hint, has_hint, within_limits, sols, out):
         return -2, 0
     h = np.empty(6)
     reduced_seed(hint, h)
-    n = solve_all(clean, K, Bm, bnorm, h, has_hint, sols)
+    # solve_into, not its wrapper solve_all: each compiled caller level links and re-optimises
+    # the whole solver below it, so a wrapper in between is a second compile of everything
+    n = solve_into(clean, K, Bm, bnorm, h, has_hint, sols, -1, np.empty(WORK_SIZE))
     if not within_limits:
         sort_solutions(sols, n)
         return n, 0
@@ -273,10 +275,11 @@ def ik_one(T, tol, K, Bm, bnorm, arm, elbow, wrist, hint, has_hint, within_limit
         return -2, False
     h = np.empty(6)
     reduced_seed(hint, h)
-    n = solve_config(clean, K, Bm, bnorm, h, has_hint, arm, elbow, wrist, sols)
+    ws = np.empty(WORK_SIZE)  # solve_into directly (see ik_all_one)
+    n = solve_into(clean, K, Bm, bnorm, h, has_hint, sols, 4 * arm + 2 * elbow + wrist, ws)
     found = select(sols[:max(1, n)], n, arm, elbow, wrist, h, within_limits, K, q_out)
     if not found:  # the whole solution set, for the caller's message
-        n = solve_all(clean, K, Bm, bnorm, h, has_hint, sols)
+        n = solve_into(clean, K, Bm, bnorm, h, has_hint, sols, -1, ws)
     return n, found
 
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import params as L
-from .complete import solve_config, wrap
+from .complete import WORK_SIZE, solve_into, wrap
 from .fk import polish_into
 from .jit import njit
 from .select import matches, select
@@ -29,8 +29,8 @@ def _within(q, K):
 
 
 @njit(allocates=True)
-def track(Ts, K, Bm, bnorm, arm, elbow, wrist, seed, has_seed, within_limits, max_step,
-          ok_in, q_out, ok_out, tracked_out):
+def track_path(Ts, K, Bm, bnorm, arm, elbow, wrist, seed, has_seed, within_limits, max_step,
+               ok_in, q_out, ok_out, tracked_out):
     """Solve the poses ``Ts`` (N, 4, 4) in order, each from the previous solution.
 
     Rows are continuous (not wrapped): a joint that turns past pi keeps turning. ``ok_out[i]``
@@ -49,6 +49,8 @@ def track(Ts, K, Bm, bnorm, arm, elbow, wrist, seed, has_seed, within_limits, ma
     keep = np.empty(6)
     zo_ = np.empty((7, 6))
     sols = np.empty((L.MAX_SOLUTIONS, 6))
+    ws = np.empty(WORK_SIZE)  # the solver's scratch, once for the path (not once per pose)
+    filt = 4 * arm + 2 * elbow + wrist
     have_prev = has_seed
     for j in range(6):
         prev[j] = seed[j]
@@ -74,7 +76,7 @@ def track(Ts, K, Bm, bnorm, arm, elbow, wrist, seed, has_seed, within_limits, ma
                     tracked_out[i] = True
         if not done:
             full += 1
-            m = solve_config(Ts[i], K, Bm, bnorm, prev, have_prev, arm, elbow, wrist, sols)
+            m = solve_into(Ts[i], K, Bm, bnorm, prev, have_prev, sols, filt, ws)
             if select(sols, m, arm, elbow, wrist, prev, within_limits, K, q):
                 if have_prev and not within_limits:
                     for j in range(6):  # continue the previous turn of every joint

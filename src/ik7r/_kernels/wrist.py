@@ -3,7 +3,7 @@
 With the twists ``(-beta, 2 beta, -beta)`` and equal offsets ``dw`` the wrist is a mirror:
 axes 4 and 7 meet at the virtual wrist centre P'c, at the distance ``d`` from O4 along axis 4
 (and from O6 back along axis 7). With ``x = sin(beta) sin(theta5 / 2)`` the bend angle phi
-between axes 4 and 7 and the distance ``d`` are (NOTES.md's quadratic, factored)::
+between axes 4 and 7 and the distance ``d`` are (the quadratic of docs/method.md, factored)::
 
     phi = 4 asin(x),    cos(phi / 2) = 1 - 2 x^2,    d = dw cos(beta) / cos(phi / 2)   (eq. 5)
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._typing import ArrayLike, Config
+
 __all__ = [
     "ORTHONORMAL_TOL",
     "check_joints",
@@ -28,7 +30,7 @@ def check_finite(x: np.ndarray, name: str) -> None:
         raise ValueError(f"{name} must be finite; got NaN or infinity")
 
 
-def check_joints(q, name: str = "q", ndof: int = 6) -> np.ndarray:
+def check_joints(q: ArrayLike, name: str = "q", ndof: int = 6) -> np.ndarray:
     """``q`` as a float array of shape ``(..., ndof)``, finite (radians)."""
     try:
         arr = np.asarray(q, dtype=float)
@@ -94,7 +96,7 @@ def _reason(T: np.ndarray) -> str:
     )
 
 
-def poses_status(T, name: str = "T") -> tuple[np.ndarray, np.ndarray]:
+def poses_status(T: ArrayLike, name: str = "T") -> tuple[np.ndarray, np.ndarray]:
     """:func:`transforms_status` without the reasons (the fast form for big batches).
 
     Returns ``(T_clean, ok)``: ``T_clean`` a new C-contiguous array of the shape of ``T``
@@ -108,7 +110,7 @@ def poses_status(T, name: str = "T") -> tuple[np.ndarray, np.ndarray]:
     return clean.reshape(arr.shape), ok.reshape(arr.shape[:-2])
 
 
-def pose_batch(T, name: str = "T") -> np.ndarray:
+def pose_batch(T: ArrayLike, name: str = "T") -> np.ndarray:
     """``T`` as a C-contiguous float array (N, 4, 4) (a copy only when it is not one already);
     the poses themselves are checked by :func:`poses_status_into`."""
     arr = _as_transforms(T, name)
@@ -126,7 +128,7 @@ def poses_status_into(flat: np.ndarray, clean: np.ndarray, ok: np.ndarray) -> No
     np.equal(codes, 0, out=ok)
 
 
-def transforms_status(T, name: str = "T") -> tuple[np.ndarray, np.ndarray, list[str]]:
+def transforms_status(T: ArrayLike, name: str = "T") -> tuple[np.ndarray, np.ndarray, list[str]]:
     """Validate every pose of ``T`` (..., 4, 4) without raising on a bad pose.
 
     Returns ``(T_clean, ok, reasons)``: the poses with their rotations projected to the
@@ -142,7 +144,7 @@ def transforms_status(T, name: str = "T") -> tuple[np.ndarray, np.ndarray, list[
     return clean, ok, reasons
 
 
-def check_transforms(T, name: str = "T") -> np.ndarray:
+def check_transforms(T: ArrayLike, name: str = "T") -> np.ndarray:
     """``T`` as valid poses ``(..., 4, 4)``: finite, bottom row ``[0, 0, 0, 1]`` and a proper
     orthonormal rotation within :data:`ORTHONORMAL_TOL` (then projected to the nearest rotation).
     """
@@ -162,7 +164,7 @@ def check_transforms(T, name: str = "T") -> np.ndarray:
     return clean
 
 
-def check_config(config) -> tuple[int, int, int]:
+def check_config(config: Config) -> tuple[int, int, int]:
     """``config`` (1..8, or ``(arm, elbow, wrist)`` with each 0 or 1) -> ``(arm, elbow, wrist)``.
 
     Numbering of the paper's Appendix 3: ``config = 1 + 4 (1 - arm) + 2 (1 - elbow) + (1 - wrist)``.

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._typing import ArrayLike
 from .rotations import wrap_angle
 
 __all__ = ["indicators", "config_number", "config_of_indicators", "describe_config"]
@@ -26,7 +27,7 @@ def indicators(q: np.ndarray) -> np.ndarray:
     return np.stack([arm, elbow, wrist], axis=-1).astype(int)
 
 
-def config_of_indicators(arm, elbow, wrist):
+def config_of_indicators(arm: ArrayLike, elbow: ArrayLike, wrist: ArrayLike) -> np.ndarray:
     """Configuration number 1..8 of the paper's Appendix 3."""
     return 1 + 4 * (1 - np.asarray(arm)) + 2 * (1 - np.asarray(elbow)) + (1 - np.asarray(wrist))
 

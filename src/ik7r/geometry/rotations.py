@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._typing import ArrayLike
+
 __all__ = [
     "rot_x",
     "rot_z",
@@ -38,7 +40,7 @@ def rot_z(angle: np.ndarray | float) -> np.ndarray:
     return np.stack([c, -s, z, s, c, z, z, z, o], axis=-1).reshape(np.shape(c) + (3, 3))
 
 
-def dh_transform(a, alpha, theta, d) -> np.ndarray:
+def dh_transform(a: ArrayLike, alpha: ArrayLike, theta: ArrayLike, d: ArrayLike) -> np.ndarray:
     """Craig's modified DH transform (the paper's eq. (1)), broadcast over the inputs.
 
     ``T = RotX(alpha) TransX(a) RotZ(theta) TransZ(d)``; angles in rad, shape ``(..., 4, 4)``.
@@ -50,7 +52,7 @@ def dh_transform(a, alpha, theta, d) -> np.ndarray:
     return np.stack(rows, axis=-1).reshape(a.shape + (4, 4))
 
 
-def rpy_to_matrix(rpy) -> np.ndarray:
+def rpy_to_matrix(rpy: ArrayLike) -> np.ndarray:
     """URDF roll-pitch-yaw (rad, ``(..., 3)``) to a rotation ``Rz(y) Ry(p) Rx(r)`` ``(..., 3, 3)``."""
     rpy = np.asarray(rpy, dtype=float)
     r, p, y = rpy[..., 0], rpy[..., 1], rpy[..., 2]
@@ -63,7 +65,7 @@ def rpy_to_matrix(rpy) -> np.ndarray:
     return np.stack(rows, axis=-1).reshape(r.shape + (3, 3))
 
 
-def matrix_to_rpy(R) -> np.ndarray:
+def matrix_to_rpy(R: ArrayLike) -> np.ndarray:
     """Inverse of :func:`rpy_to_matrix`: ``(..., 3, 3)`` -> ``(..., 3)`` rad (pitch in [-pi/2, pi/2])."""
     R = np.asarray(R, dtype=float)
     pitch = np.arctan2(-R[..., 2, 0], np.hypot(R[..., 0, 0], R[..., 1, 0]))
@@ -77,7 +79,7 @@ def matrix_to_rpy(R) -> np.ndarray:
     return np.stack([roll, pitch, yaw], axis=-1)
 
 
-def quat_to_matrix(quat) -> np.ndarray:
+def quat_to_matrix(quat: ArrayLike) -> np.ndarray:
     """Unit quaternion ``(w, x, y, z)`` ``(..., 4)`` to rotation ``(..., 3, 3)`` (normalised first)."""
     q = np.asarray(quat, dtype=float)
     q = q / np.linalg.norm(q, axis=-1, keepdims=True)
@@ -90,7 +92,7 @@ def quat_to_matrix(quat) -> np.ndarray:
     return np.stack(rows, axis=-1).reshape(w.shape + (3, 3))
 
 
-def matrix_to_quat(R) -> np.ndarray:
+def matrix_to_quat(R: ArrayLike) -> np.ndarray:
     """Rotation ``(..., 3, 3)`` to unit quaternion ``(w, x, y, z)`` with ``w >= 0``."""
     R = np.asarray(R, dtype=float)
     tr = R[..., 0, 0] + R[..., 1, 1] + R[..., 2, 2]
@@ -113,7 +115,7 @@ def matrix_to_quat(R) -> np.ndarray:
     return np.where(q[..., :1] < 0, -q, q)
 
 
-def transform(R=None, p=None) -> np.ndarray:
+def transform(R: ArrayLike | None = None, p: ArrayLike | None = None) -> np.ndarray:
     """Homogeneous transform from rotation ``(..., 3, 3)`` and translation ``(..., 3)``."""
     R = np.eye(3) if R is None else np.asarray(R, dtype=float)
     p = np.zeros(3) if p is None else np.asarray(p, dtype=float)
@@ -125,21 +127,21 @@ def transform(R=None, p=None) -> np.ndarray:
     return T
 
 
-def invert(T) -> np.ndarray:
+def invert(T: ArrayLike) -> np.ndarray:
     """Inverse of rigid transforms ``(..., 4, 4)``."""
     T = np.asarray(T, dtype=float)
     Rt = np.swapaxes(T[..., :3, :3], -1, -2)
     return transform(Rt, -np.einsum("...ij,...j->...i", Rt, T[..., :3, 3]))
 
 
-def wrap_angle(x) -> np.ndarray:
+def wrap_angle(x: ArrayLike) -> np.ndarray:
     """Angles wrapped to (-pi, pi]."""
     y = np.mod(np.asarray(x, dtype=float) + np.pi, 2 * np.pi)
     y = np.where(y <= 0.0, y + 2 * np.pi, y)
     return y - np.pi
 
 
-def nearest_rotation(R) -> np.ndarray:
+def nearest_rotation(R: ArrayLike) -> np.ndarray:
     """The proper rotation nearest ``R`` (..., 3, 3) in the Frobenius norm (polar factor)."""
     U, _, Vt = np.linalg.svd(np.asarray(R, dtype=float))
     D = np.ones(U.shape[:-1])

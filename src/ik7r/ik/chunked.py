@@ -28,10 +28,16 @@ import zipfile
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..geometry.checks import check_joints
+
+if TYPE_CHECKING:
+    from .._typing import PathLike
+    from ..progress import Progress
+    from ..robot.model import Robot
 
 __all__ = [
     "ChunkResult",
@@ -54,7 +60,7 @@ class FromJoints:
     ``q`` may be a memory-mapped array; it is read one chunk at a time.
     """
 
-    robot: object
+    robot: Robot
     q: np.ndarray
 
     def __post_init__(self) -> None:
@@ -82,7 +88,7 @@ class RandomPoses:
     ``numpy.random.default_rng([seed, k])``), so a pose does not depend on the chunking.
     """
 
-    robot: object
+    robot: Robot
     n: int
     seed: int = 0
     within_limits: bool = False
@@ -162,7 +168,8 @@ class ChunkResult:
         return self.start + len(self.count)
 
 
-def solve_all_chunked(robot, poses, *, chunk: int = DEFAULT_CHUNK, start: int = 0,
+def solve_all_chunked(robot: Robot, poses: np.ndarray | RandomPoses | FromJoints, *,
+                      chunk: int = DEFAULT_CHUNK, start: int = 0,
                       stop: int | None = None) -> Iterator[ChunkResult]:
     """Every solution of every pose of ``poses``, one chunk at a time.
 
@@ -195,8 +202,13 @@ def solve_all_chunked(robot, poses, *, chunk: int = DEFAULT_CHUNK, start: int = 
     stop = n if stop is None else min(int(stop), n)
     for a in range(max(0, int(start)), stop, chunk):
         b = min(a + chunk, stop)
-        joints = poses.joints(a, b) if hasattr(poses, "joints") else None
-        T = robot.fk(joints) if joints is not None else np.asarray(poses[a:b], dtype=float)
+        joints: np.ndarray | None
+        if isinstance(poses, (RandomPoses, FromJoints)):
+            joints = q_from = poses.joints(a, b)
+            T = robot.fk(q_from)
+        else:
+            joints = None
+            T = np.asarray(poses[a:b], dtype=float)
         q, valid = ik_all_batch(robot, T)
         yield ChunkResult(start=a, T=T, q=q, valid=valid, count=valid.sum(axis=1), joints=joints)
 
@@ -260,7 +272,8 @@ class BatchSummary:
         return self.poses / self.seconds if self.seconds > 0 else float("inf")
 
 
-def write_solutions(robot, poses, out, *, chunk: int = DEFAULT_CHUNK, progress=None,
+def write_solutions(robot: Robot, poses: np.ndarray | RandomPoses | FromJoints, out: PathLike, *,
+                    chunk: int = DEFAULT_CHUNK, progress: Progress | None = None,
                     meta: dict | None = None) -> BatchSummary:
     """Solve every pose of ``poses`` and stream the solutions to ``out``, in bounded memory.
 
@@ -313,7 +326,7 @@ def write_solutions(robot, poses, out, *, chunk: int = DEFAULT_CHUNK, progress=N
     try:
         for res in solve_all_chunked(robot, poses, chunk=chunk):
             q_file.append(res.q[res.valid])
-            if j_file is not None:
+            if j_file is not None and res.joints is not None:
                 j_file.append(res.joints)
             offsets[res.start + 1: res.stop + 1] = total + np.cumsum(res.count)
             total += int(res.count.sum())

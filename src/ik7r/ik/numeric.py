@@ -10,12 +10,17 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .. import _kernels as _kin
 from ..geometry.checks import check_joints, check_transforms
 from ..geometry.rotations import wrap_angle
+
+if TYPE_CHECKING:
+    from .._typing import ArrayLike
+    from ..robot.model import Robot
 
 __all__ = ["NumericResult", "newton_raphson", "damped_least_squares", "manipulability"]
 
@@ -52,7 +57,7 @@ def _finish(robot, q, Td, T, e, it, hist, start, reason):
     return NumericResult(q if ok else None, ok, it, np.array(hist), q, time.perf_counter() - start, reason)
 
 
-def newton_raphson(robot, T, q0, *, tol: float = 1e-12, max_iter: int = 100,
+def newton_raphson(robot: Robot, T: ArrayLike, q0: ArrayLike, *, tol: float = 1e-12, max_iter: int = 100,
                    singular_tol: float = 1e-10) -> NumericResult:
     """The paper's Newton-Raphson, ``theta += J^-1 e`` (eq. (9)), from ``q0`` (6,) rad.
 
@@ -80,8 +85,8 @@ def newton_raphson(robot, T, q0, *, tol: float = 1e-12, max_iter: int = 100,
     return _finish(robot, q, Td, T_, e, max_iter, hist, start, f"no convergence in {max_iter} iterations")
 
 
-def damped_least_squares(robot, T, q0, *, damping: float = 1e-3, tol: float = 1e-12,
-                         max_iter: int = 500) -> NumericResult:
+def damped_least_squares(robot: Robot, T: ArrayLike, q0: ArrayLike, *, damping: float = 1e-3,
+                         tol: float = 1e-12, max_iter: int = 500) -> NumericResult:
     """Levenberg-Marquardt (damped least squares) from ``q0``: the generic robust solver.
 
     Solves ``(J^T W J + lambda^2 I) dq = J^T W e`` with position rows scaled by the robot's
@@ -121,7 +126,7 @@ def damped_least_squares(robot, T, q0, *, damping: float = 1e-3, tol: float = 1e
     return _finish(robot, q, Td, T_, e, max_iter, hist, start, f"no convergence in {max_iter} iterations")
 
 
-def manipulability(robot, q) -> np.ndarray:
+def manipulability(robot: Robot, q: ArrayLike) -> np.ndarray:
     """``det(J J^T)`` (the paper's eq. (10)) for joints ``q`` (..., 6); zero at singularities."""
     J = robot.jacobian(q)
     return np.linalg.det(J @ np.swapaxes(J, -1, -2))

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -31,6 +32,10 @@ from .._kernels import (
 from .._kernels import params as L
 from ..geometry.checks import check_config, check_transforms
 from ..geometry.rotations import wrap_angle
+
+if TYPE_CHECKING:
+    from .._typing import ArrayLike, Config
+    from ..robot.model import Robot
 
 __all__ = ["PaperResult", "ik_paper"]
 
@@ -72,8 +77,9 @@ class PaperResult:
     reason: str = ""
 
 
-def ik_paper(robot, T, config=1, *, theta5_start=None, tol: float = 1e-14,
-             max_iter: int = 1000, rng=None) -> PaperResult:
+def ik_paper(robot: Robot, T: ArrayLike, config: Config = 1, *, theta5_start: float | None = None,
+             tol: float = 1e-14, max_iter: int = 1000,
+             rng: np.random.Generator | None = None) -> PaperResult:
     """The paper's iteration for one pose in one configuration.
 
     Parameters

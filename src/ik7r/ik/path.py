@@ -8,10 +8,15 @@ otherwise. It is the fast way to follow a densely sampled path; every row it ret
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..geometry.checks import check_config, check_joints, poses_status, reduce_seeds
+
+if TYPE_CHECKING:
+    from .._typing import ArrayLike, Config
+    from ..robot.model import Robot
 
 __all__ = ["PathIK", "ik_path"]
 
@@ -42,7 +47,8 @@ class PathIK:
         return int(np.count_nonzero(self.ok & ~self.tracked))
 
 
-def ik_path(robot, T, config=1, *, seed=None, within_limits: bool = False,
+def ik_path(robot: Robot, T: ArrayLike, config: Config = 1, *, seed: ArrayLike | None = None,
+            within_limits: bool = False,
             max_step: float = 0.2) -> PathIK:
     """Solve a path of poses in order, each from the previous solution.
 
@@ -67,7 +73,7 @@ def ik_path(robot, T, config=1, *, seed=None, within_limits: bool = False,
     -------
     PathIK
     """
-    from .._kernels import bernstein_tables, track
+    from .._kernels import bernstein_tables, track_path
 
     arm, elbow, wrist = check_config(config)
     Tc, good = poses_status(T)
@@ -76,7 +82,7 @@ def ik_path(robot, T, config=1, *, seed=None, within_limits: bool = False,
     if not (np.isfinite(max_step) and max_step > 0):
         raise ValueError(f"max_step must be a positive angle in rad; got {max_step!r}")
     has_seed = seed is not None
-    s = check_joints(seed, "seed").astype(float) if has_seed else np.zeros(6)
+    s = check_joints(seed, "seed").astype(float) if seed is not None else np.zeros(6)
     if s.shape != (6,):
         raise ValueError(f"seed must have shape (6,); got {s.shape}")
     s = reduce_seeds(s)  # periodic: joints beyond MAX_JOINT_ANGLE are reduced modulo 2 pi
@@ -85,9 +91,9 @@ def ik_path(robot, T, config=1, *, seed=None, within_limits: bool = False,
     ok = np.zeros(n, dtype=bool)
     tracked = np.zeros(n, dtype=bool)
     Bm, bnorm = bernstein_tables(robot.kernel_params)
-    track(np.ascontiguousarray(Tc), robot.kernel_params, Bm, bnorm, arm, elbow, wrist,
-                 np.ascontiguousarray(s), has_seed, bool(within_limits), float(max_step),
-                 np.ascontiguousarray(good), q, ok, tracked)
+    track_path(np.ascontiguousarray(Tc), robot.kernel_params, Bm, bnorm, arm, elbow, wrist,
+               np.ascontiguousarray(s), has_seed, bool(within_limits), float(max_step),
+               np.ascontiguousarray(good), q, ok, tracked)
     for arr in (q, ok, tracked):
         arr.setflags(write=False)
     return PathIK(q=q, ok=ok, tracked=tracked)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 from concurrent.futures import ThreadPoolExecutor
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -34,6 +35,10 @@ from ..geometry.checks import (
     reduce_seeds,
 )
 from ..geometry.configs import config_number, describe_config
+
+if TYPE_CHECKING:
+    from .._typing import ArrayLike, Config
+    from ..robot.model import Robot
 
 __all__ = ["ik_all", "ik", "ik_batch", "ik_all_batch", "MAX_SOLUTIONS", "MAX_WITHIN_LIMITS_ROWS",
            "num_threads", "threads_for"]
@@ -146,7 +151,8 @@ def _one_pose(T, batch_name: str) -> np.ndarray:
     return arr
 
 
-def ik_all(robot, T, *, within_limits: bool = False, seed=None) -> np.ndarray:
+def ik_all(robot: Robot, T: ArrayLike, *, within_limits: bool = False,
+           seed: ArrayLike | None = None) -> np.ndarray:
     """Every distinct solution of one pose.
 
     Parameters
@@ -214,7 +220,8 @@ def _expanded(sols: np.ndarray, n: int, K: np.ndarray) -> np.ndarray:
     return out[order]
 
 
-def ik(robot, T, config=1, *, seed=None, within_limits: bool = False) -> np.ndarray:
+def ik(robot: Robot, T: ArrayLike, config: Config = 1, *, seed: ArrayLike | None = None,
+       within_limits: bool = False) -> np.ndarray:
     """The solution of one pose in one configuration.
 
     Parameters
@@ -266,7 +273,8 @@ def ik(robot, T, config=1, *, seed=None, within_limits: bool = False) -> np.ndar
     )
 
 
-def ik_batch(robot, T, config=1, *, seed=None, within_limits: bool = False):
+def ik_batch(robot: Robot, T: ArrayLike, config: Config = 1, *, seed: ArrayLike | None = None,
+             within_limits: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """:func:`ik` for many poses at once.
 
     Parameters
@@ -307,7 +315,7 @@ def ik_batch(robot, T, config=1, *, seed=None, within_limits: bool = False):
     return q, ok
 
 
-def ik_all_batch(robot, T):
+def ik_all_batch(robot: Robot, T: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """:func:`ik_all` for many poses at once.
 
     Parameters

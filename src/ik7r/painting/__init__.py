@@ -31,6 +31,7 @@ thickness), :mod:`~ik7r.painting.view` (heat map, 3-D view).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -89,6 +90,10 @@ from .surface import surface_raster
 from .timing import time_path
 from .trajectory import DEFAULT_MAX_STEP, DEFAULT_SINGULAR_MARGIN, PathSolution, solve_path, track
 
+if TYPE_CHECKING:
+    from .._typing import ArrayLike, Config
+    from ..robot.model import Robot
+
 __all__ = [
     "PaintResult", "paint_path", "paint_raster",
     "Path", "raster_path", "load_path_csv", "path_from_poses", "workpiece_frame", "GUN_DOWN",
@@ -126,7 +131,7 @@ class PaintResult:
         Everything to report (path and interpolation); empty when there is nothing.
     """
 
-    robot: object
+    robot: Robot
     path: Path
     solution: PathSolution
     trajectory: Trajectory
@@ -182,8 +187,9 @@ def _ratios(r) -> str:
     return "  ".join(f"{JOINT_LABELS[j]} {r[j]:.3f}" for j in range(6))
 
 
-def paint_path(robot, path: Path, *, duration: float | None = None, speed: float | None = None,
-               slow_down: bool = False, zone: float | None = None, config=1, seed=None, tool=None,
+def paint_path(robot: Robot, path: Path, *, duration: float | None = None, speed: float | None = None,
+               slow_down: bool = False, zone: float | None = None, config: Config = 1,
+               seed: ArrayLike | None = None, tool: ArrayLike | None = None,
                keep: str = "config", ramp: float = DEFAULT_RAMP, kind: str = "quintic",
                tolerance: float | None = None, rate: float = DEFAULT_RATE, rescale: bool = False,
                max_step: float = DEFAULT_MAX_STEP, singular_margin: float = DEFAULT_SINGULAR_MARGIN,
@@ -245,11 +251,12 @@ def paint_path(robot, path: Path, *, duration: float | None = None, speed: float
     return PaintResult(robot, path, solution, trajectory, list(solution.events) + list(more))
 
 
-def paint_raster(robot, *, duration: float | None = None, config=1, origin=DEFAULT_ORIGIN,
-                 rpy=(0.0, 0.0, 0.0), size=DEFAULT_SIZE, spacing: float = DEFAULT_SPACING,
+def paint_raster(robot: Robot, *, duration: float | None = None, config: Config = 1,
+                 origin: ArrayLike = DEFAULT_ORIGIN, rpy: ArrayLike = (0.0, 0.0, 0.0),
+                 size: tuple[float, float] = DEFAULT_SIZE, spacing: float = DEFAULT_SPACING,
                  margin: float = 0.0,
-                 standoff: float = 0.0, step: float = DEFAULT_STEP, gun_rotation=GUN_DOWN,
-                 **options) -> PaintResult:
+                 standoff: float = 0.0, step: float = DEFAULT_STEP,
+                 gun_rotation: ArrayLike = GUN_DOWN, **options: Any) -> PaintResult:
     """Paint a raster over a rectangle (the paper's Simulation 3 with the defaults).
 
     The defaults: a 600 x 800 mm rectangle centred at (1100, 0, 200) mm in the base frame, in a

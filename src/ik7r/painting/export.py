@@ -9,6 +9,13 @@ joints are exact to about 1e-10 deg (about 1e-8 mm of tool position on a 2 m rob
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .._typing import PathLike
+    from ..robot.model import Robot
+    from .interpolate import Trajectory
+
 from pathlib import Path as FilePath
 
 import numpy as np
@@ -28,7 +35,7 @@ def _seven(robot, x: np.ndarray, derivative: bool) -> np.ndarray:
     return np.column_stack([x[:, :5], q6, x[:, 5]])
 
 
-def trajectory_table(robot, trajectory) -> np.ndarray:
+def trajectory_table(robot: Robot, trajectory: Trajectory) -> np.ndarray:
     """The CSV's numbers ``(M, 25)`` in its units (s, length unit, deg, deg/s, deg/s^2)."""
     return np.column_stack([
         trajectory.t,
@@ -39,7 +46,7 @@ def trajectory_table(robot, trajectory) -> np.ndarray:
     ])
 
 
-def write_trajectory_csv(robot, trajectory, file) -> FilePath:
+def write_trajectory_csv(robot: Robot, trajectory: Trajectory, file: PathLike) -> FilePath:
     """Write ``trajectory`` to ``file`` (see the module docstring); returns the path."""
     fp = FilePath(file)
     np.savetxt(fp, trajectory_table(robot, trajectory), delimiter=",", fmt=_FMT,

@@ -24,6 +24,13 @@ instants, so the CSV and the figures show the peaks the report states.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .._typing import ArrayLike
+    from ..robot.model import Robot
+    from .events import PathEvent
+
 import math
 from dataclasses import dataclass, field
 
@@ -163,11 +170,11 @@ class Timing:
                        np.where(end, -V * (6 * xe - 6 * xe ** 2) / tau, 0.0))
         return u0 + np.minimum(u, L), ud, udd
 
-    def u_of_t(self, t) -> np.ndarray:
+    def u_of_t(self, t: ArrayLike) -> np.ndarray:
         """Path parameter at times ``t`` (clipped to [0, duration])."""
         return self.derivatives(t)[0]
 
-    def t_of_u(self, u) -> np.ndarray:
+    def t_of_u(self, u: ArrayLike) -> np.ndarray:
         """Times at path parameters ``u`` (clipped to [0, length])."""
         bounds, L, tau, D, t0, V = self._pieces
         u = np.clip(np.asarray(u, dtype=float), 0.0, self.length)
@@ -539,10 +546,10 @@ class Trajectory:
         return q, dq, ddq
 
 
-def interpolate(robot, solution: PathSolution, duration: float = 20.0, *, ramp: float = DEFAULT_RAMP,
+def interpolate(robot: Robot, solution: PathSolution, duration: float = 20.0, *, ramp: float = DEFAULT_RAMP,
                 kind: str = "quintic", tolerance: float | None = None, rate: float = DEFAULT_RATE,
                 rescale: bool = False, max_rounds: int = 10, max_step: float = DEFAULT_MAX_STEP,
-                corner_angle: float | None = None):
+                corner_angle: float | None = None) -> tuple[Trajectory, list[PathEvent]]:
     """A trajectory through the IK samples of ``solution`` over ``duration`` (constant speed,
     ramps, stops at sharp corners): :func:`ik7r.painting.time_path` with ``duration``.
 

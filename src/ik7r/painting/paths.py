@@ -14,6 +14,11 @@ workpiece x, gun y and z opposite to the workpiece's, the paper's Simulation 3).
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .._typing import ArrayLike
+
 import csv
 import math
 from collections.abc import Callable
@@ -143,7 +148,7 @@ class Path:
         """Total length of the positions (robot length unit)."""
         return float(self.arc_length[-1])
 
-    def sprayed(self, u) -> np.ndarray:
+    def sprayed(self, u: ArrayLike) -> np.ndarray:
         """Whether the gun is on at path parameters ``u`` (M,): bool ``(M,)``.
 
         On inside a segment whose two end samples are on, and at an on sample itself.
@@ -155,7 +160,7 @@ class Path:
         inside = self.spray[i] & self.spray[i + 1]
         return np.where(at_sample, self.spray[i], np.where(at_next, self.spray[i + 1], inside))
 
-    def at(self, u) -> tuple[np.ndarray, np.ndarray]:
+    def at(self, u: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Poses at path parameters ``u`` (M,) in ``[0, u[-1]]``.
 
         Returns
@@ -191,7 +196,7 @@ def _interpolate_samples(P, R, u_samples, u):
     return pos, rot
 
 
-def path_from_poses(T_base_tool, *, rotation_radius: float = 100.0, name: str = "path") -> Path:
+def path_from_poses(T_base_tool: ArrayLike, *, rotation_radius: float = 100.0, name: str = "path") -> Path:
     """A :class:`Path` through the poses ``T_base_tool`` (N, 4, 4) (linear/slerp in between).
 
     ``rotation_radius`` (length unit per rad, default 100, meant for mm) weights orientation
@@ -212,7 +217,7 @@ def path_from_poses(T_base_tool, *, rotation_radius: float = 100.0, name: str = 
     return Path(P, R, u, None, name)
 
 
-def workpiece_frame(origin=DEFAULT_ORIGIN, rpy=(0.0, 0.0, 0.0)) -> np.ndarray:
+def workpiece_frame(origin: ArrayLike = DEFAULT_ORIGIN, rpy: ArrayLike = (0.0, 0.0, 0.0)) -> np.ndarray:
     """``T_base_workpiece`` (4, 4) from a position (length unit) and URDF roll-pitch-yaw (rad)."""
     origin = np.asarray(origin, dtype=float)
     rpy = np.asarray(rpy, dtype=float)

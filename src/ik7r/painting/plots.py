@@ -6,6 +6,13 @@ Plots are drawn in the robot's world frame (the base frame for the paper robot).
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .._typing import PathLike
+    from ..robot.model import Robot
+    from .interpolate import Trajectory
+
 from pathlib import Path as FilePath
 
 import numpy as np
@@ -27,7 +34,8 @@ def _pyplot():
     return plt
 
 
-def plot_joint_trajectory(trajectory, out, robot=None, *, title: str | None = None) -> FilePath:
+def plot_joint_trajectory(trajectory: Trajectory, out: PathLike, robot: Robot | None = None, *,
+                          title: str | None = None) -> FilePath:
     """The paper's Figure 12: joint positions, velocities and accelerations against time.
 
     Parameters
@@ -91,7 +99,8 @@ def _equal_axes(ax, pts) -> None:
     ax.set_box_aspect((1, 1, 1))
 
 
-def plot_path_3d(robot, trajectory, out, *, postures: int = 5, title: str | None = None) -> FilePath:
+def plot_path_3d(robot: Robot, trajectory: Trajectory, out: PathLike, *, postures: int = 5,
+                 title: str | None = None) -> FilePath:
     """A 3-D view of the path (the rows' path points) with ``postures`` robot postures along it.
 
     The robot is drawn as the polyline through the origins of its frames (base, 1..7, tool).
@@ -123,8 +132,8 @@ def plot_path_3d(robot, trajectory, out, *, postures: int = 5, title: str | None
     return FilePath(out)
 
 
-def animate_painting(robot, trajectory, out, *, frames: int = DEFAULT_FRAMES, fps: float = 12.0,
-                     dpi: float = 72.0) -> FilePath:
+def animate_painting(robot: Robot, trajectory: Trajectory, out: PathLike, *, frames: int = DEFAULT_FRAMES,
+                     fps: float = 12.0, dpi: float = 72.0) -> FilePath:
     """An animation of the robot painting: a GIF (``.gif``, Pillow) or a self-contained HTML page
     (``.html``, ``to_jshtml``), with ``frames`` frames evenly spread over the duration."""
     if frames < 2:

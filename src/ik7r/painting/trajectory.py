@@ -24,6 +24,12 @@ Two policies say what to do when the continuous branch leaves the requested conf
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .._typing import ArrayLike, Config
+    from ..robot.model import Robot
+
 import math
 from contextlib import nullcontext
 from dataclasses import dataclass
@@ -191,8 +197,9 @@ def _diagnose(robot, q_a: np.ndarray, u_b: float, T_b: np.ndarray, max_step: flo
     return _Lost(u_b, q_a, why)
 
 
-def track(robot, path: Path, q_from, u_from: float, u_to: float, *, max_step: float = DEFAULT_MAX_STEP,
-          max_depth: int = DEFAULT_MAX_DEPTH, T_to=None):
+def track(robot: Robot, path: Path, q_from: ArrayLike, u_from: float, u_to: float, *,
+          max_step: float = DEFAULT_MAX_STEP, max_depth: int = DEFAULT_MAX_DEPTH,
+          T_to: ArrayLike | None = None) -> tuple[np.ndarray | None, _Lost | None]:
     """Follow the solution branch through ``q_from`` (at ``path.at(u_from)``) to ``u_to``.
 
     Parameters
@@ -315,7 +322,8 @@ def _near_singular(q: np.ndarray, ok: np.ndarray, margin: float) -> list[tuple[i
 
 
 # ----------------------------------------------------------------------------- solve_path
-def solve_path(robot, path: Path, config=1, seed=None, *, keep: str = "config",
+def solve_path(robot: Robot, path: Path, config: Config = 1, seed: ArrayLike | None = None, *,
+               keep: str = "config",
                max_step: float = DEFAULT_MAX_STEP, singular_margin: float = DEFAULT_SINGULAR_MARGIN,
                progress: bool = False) -> PathSolution:
     """Solve every sample of ``path``, following one solution branch.

@@ -1,4 +1,4 @@
-"""The paper's published numbers, as printed (OCR slips corrected, see NOTES.md).
+"""The paper's published numbers, as printed (OCR slips corrected, see docs/method.md).
 
 Everything here is data copied from the paper; nothing is computed. Angles in degrees,
 lengths in mm, times in the units the paper uses (ms for Table 3, s for Table 5).

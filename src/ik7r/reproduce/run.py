@@ -2,6 +2,13 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .._typing import PathLike
+    from ..progress import Progress
+    from ..robot.model import Robot
+
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -120,7 +127,8 @@ class _Part:
         self.advance(self.n)
 
 
-def reproduce(out_dir, *, plan: Plan = FULL, robot=None, progress=None) -> Reproduction:
+def reproduce(out_dir: PathLike, *, plan: Plan = FULL, robot: Robot | None = None,
+              progress: Progress | None = None) -> Reproduction:
     """Recompute the paper's Tables 2, 3, 5 and Figures 6-10 and 12, write them to ``out_dir``.
 
     Parameters

@@ -43,6 +43,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._typing import RobotSource
 from ..errors import FamilyError, RobotFileError
 from ..geometry.rotations import rpy_to_matrix, transform
 from ..units import unit_scale
@@ -60,7 +61,7 @@ BUILTIN_ROBOTS = {"paper": "paper.toml", "irb5400": "irb5400.toml"}
 
 
 
-def load_robot(path=None, *, base: str | None = None, tip: str | None = None) -> Robot:
+def load_robot(path: RobotSource = None, *, base: str | None = None, tip: str | None = None) -> Robot:
     """Load a robot.
 
     Parameters
@@ -84,7 +85,7 @@ def load_robot(path=None, *, base: str | None = None, tip: str | None = None) ->
     if path is None:
         path = "paper"
     if isinstance(path, str) and path in BUILTIN_ROBOTS:
-        text = resources.files("ik7r.robot").joinpath("data", BUILTIN_ROBOTS[path]).read_text()
+        text = resources.files("ik7r.robot").joinpath("data").joinpath(BUILTIN_ROBOTS[path]).read_text()
         return robot_from_toml(text, source=f"built-in robot {path!r}")
     p = Path(path)
     if p.suffix.lower() == ".urdf":

@@ -10,12 +10,18 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._kernels import params as L
+from .._typing import ArrayLike, Config
 from ..geometry.checks import check_joints
 from .family import MAX_JOINT_ANGLE, Family, check_placement, family_of
+
+if TYPE_CHECKING:
+    from ..ik.paper import PaperResult
+    from ..ik.path import PathIK
 
 __all__ = ["Robot"]
 
@@ -150,17 +156,17 @@ class Robot:
         n = self.joint_names
         return (n[0], n[1], n[2], n[3], n[4], n[6])
 
-    def replace(self, **changes) -> Robot:
+    def replace(self, **changes: Any) -> Robot:
         """A copy with some fields changed (``dataclasses.replace``)."""
         from dataclasses import replace
 
         return replace(self, **changes)
 
-    def with_tool(self, T_flange_tool) -> Robot:
+    def with_tool(self, T_flange_tool: ArrayLike) -> Robot:
         """A copy whose tool (TCP) is ``T_flange_tool`` (4, 4), frame 7 <- tool."""
         return self.replace(tool=np.asarray(T_flange_tool, dtype=float))
 
-    def with_base(self, T_world_base) -> Robot:
+    def with_base(self, T_world_base: ArrayLike) -> Robot:
         """A copy whose base is ``T_world_base`` (4, 4), world <- frame 0."""
         return self.replace(base=np.asarray(T_world_base, dtype=float))
 
@@ -196,7 +202,7 @@ class Robot:
         return float(self.kernel_params[L.ROT_TOL])
 
     # ------------------------------------------------------------------ kinematics
-    def fk(self, q) -> np.ndarray:
+    def fk(self, q: ArrayLike) -> np.ndarray:
         """Forward kinematics.
 
         Parameters
@@ -215,7 +221,7 @@ class Robot:
         _lazy("_kernels").fk_batch(flat, self.kernel_params, out)
         return out.reshape(q.shape[:-1] + (4, 4))
 
-    def frames(self, q) -> np.ndarray:
+    def frames(self, q: ArrayLike) -> np.ndarray:
         """World frames of every link: ``(..., 9, 4, 4)``: frame 0 (base), frames 1..7, tool."""
         from .._kernels import frames_batch
 
@@ -225,7 +231,7 @@ class Robot:
         frames_batch(flat, self.kernel_params, out)
         return out.reshape(q.shape[:-1] + (9, 4, 4))
 
-    def jacobian(self, q) -> np.ndarray:
+    def jacobian(self, q: ArrayLike) -> np.ndarray:
         """Geometric Jacobian ``(..., 6, 6)`` of the tool in world coordinates (linear rows
         first, robot length unit per rad; then angular), joint 6 folded into column 5."""
         from .._kernels import jacobian as _jac
@@ -241,7 +247,7 @@ class Robot:
 
     # ------------------------------------------------------------------ configurations
     @staticmethod
-    def indicators(q) -> np.ndarray:
+    def indicators(q: ArrayLike) -> np.ndarray:
         """The paper's (Arm, Elbow, Wrist) indicators of joints ``q`` (..., 6) -> (..., 3) int.
 
         Arm = 1 when ``q1`` is in [-pi/2, pi/2), Elbow = 1 when ``q3`` is in [-pi/2, pi/2),
@@ -252,36 +258,41 @@ class Robot:
         return indicators(check_joints(q))
 
     @staticmethod
-    def config_of(q) -> np.ndarray:
+    def config_of(q: ArrayLike) -> np.ndarray:
         """Configuration number 1..8 (the paper's Appendix 3) of joints ``q`` (..., 6)."""
         from ..geometry.configs import config_number
 
         return config_number(check_joints(q))
 
     # ------------------------------------------------------------------ inverse kinematics
-    def ik_all(self, T, *, within_limits: bool = False, seed=None) -> np.ndarray:
+    def ik_all(self, T: ArrayLike, *, within_limits: bool = False,
+               seed: ArrayLike | None = None) -> np.ndarray:
         """Every distinct solution of one pose ``(M, 6)``; see :func:`ik7r.ik.solve.ik_all`."""
         return _lazy("ik.solve").ik_all(self, T, within_limits=within_limits, seed=seed)
 
-    def ik(self, T, config=1, seed=None, *, within_limits: bool = False) -> np.ndarray:
+    def ik(self, T: ArrayLike, config: Config = 1, seed: ArrayLike | None = None, *,
+           within_limits: bool = False) -> np.ndarray:
         """The solution in one configuration ``(6,)``; see :func:`ik7r.ik.solve.ik`."""
         return _lazy("ik.solve").ik(self, T, config, seed=seed, within_limits=within_limits)
 
-    def ik_batch(self, T, config=1, seed=None, *, within_limits: bool = False):
+    def ik_batch(self, T: ArrayLike, config: Config = 1, seed: ArrayLike | None = None, *,
+                 within_limits: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """``(q (N, 6), ok (N,))`` for poses ``(N, 4, 4)``; see :func:`ik7r.ik.solve.ik_batch`."""
         return _lazy("ik.solve").ik_batch(self, T, config, seed=seed, within_limits=within_limits)
 
-    def ik_all_batch(self, T):
+    def ik_all_batch(self, T: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """``(q (N, K, 6), valid (N, K))``; see :func:`ik7r.ik.solve.ik_all_batch`."""
         return _lazy("ik.solve").ik_all_batch(self, T)
 
-    def ik_path(self, T, config=1, *, seed=None, within_limits: bool = False, max_step: float = 0.2):
+    def ik_path(self, T: ArrayLike, config: Config = 1, *, seed: ArrayLike | None = None,
+                within_limits: bool = False, max_step: float = 0.2) -> PathIK:
         """Warm-started IK along a path ``(N, 4, 4)``; see :func:`ik7r.ik.path.ik_path`."""
         from ..ik.path import ik_path
 
         return ik_path(self, T, config, seed=seed, within_limits=within_limits, max_step=max_step)
 
-    def ik_paper(self, T, config=1, theta5_start=None, **kwargs):
+    def ik_paper(self, T: ArrayLike, config: Config = 1, theta5_start: float | None = None,
+                 **kwargs: Any) -> PaperResult:
         """The paper's fixed-point iteration (Figure 5); see :func:`ik7r.ik.paper.ik_paper`."""
         from ..ik.paper import ik_paper
 

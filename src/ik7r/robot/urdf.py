@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._typing import ArrayLike, PathLike
 from ..errors import FamilyError, RobotFileError
 from ..geometry.rotations import dh_transform, invert, rpy_to_matrix, transform
 from .family import ANGLE_TOL
@@ -86,7 +87,7 @@ class UrdfChain:
     source: str = "<string>"
     moving: tuple[int, ...] = field(default=())  # indices into joints of the moving joints
 
-    def transforms(self, q_moving) -> np.ndarray:
+    def transforms(self, q_moving: ArrayLike) -> np.ndarray:
         """Base link <- tip link transform for values of the moving joints.
 
         Parameters
@@ -546,7 +547,7 @@ def robot_from_urdf_string(text: str | bytes, *, base: str | None = None, tip: s
     return robot_from_chain(read_chain(text, base=base, tip=tip, source=source))
 
 
-def robot_from_urdf(path, *, base: str | None = None, tip: str | None = None) -> Robot:
+def robot_from_urdf(path: PathLike, *, base: str | None = None, tip: str | None = None) -> Robot:
     """Load a robot from a URDF file.
 
     Parameters

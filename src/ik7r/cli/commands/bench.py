@@ -33,7 +33,7 @@ def add_parser(sub) -> None:
 def run(args) -> int:
     import json
 
-    from ...benchmark import run_benchmarks
+    from ...bench import run_benchmarks
 
     if args.n is not None and args.n < 1:
         raise CliError(f"--n must be a positive number of poses; got {args.n}")
