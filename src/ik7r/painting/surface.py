@@ -75,10 +75,19 @@ def target_faces(part: Part, view=(0.0, 0.0, 1.0), *, min_cos: float = 0.05) -> 
 
 
 def smoothed_normals(part: Part, faces=None, radius: float | None = None) -> np.ndarray:
-    """Unit vertex normals ``(V, 3)`` of the ``faces`` (mask; default all), averaged with
-    Gaussian weights (sigma = radius / 2) over the vertices within ``radius`` (default twice
-    the median edge length). Vertices of no selected face get 0."""
-    from scipy.sparse import csr_matrix
+    """Unit vertex normals ``(V, 3)`` of the ``faces`` (mask; default all), smoothed over
+    ``radius`` (default twice the median edge length). Vertices of no selected face get 0.
+
+    At each vertex, the normal is the value at the vertex of a local linear regression of the
+    normals of the faces whose centroids lie within ``radius`` (Gaussian weights, sigma =
+    radius / 2, times the face areas), over the vertex's tangent plane: inside the part that is
+    the weighted mean of the normals around the vertex, and at the part's border, where the
+    faces lie on one side only, it is not biased towards the inside (a mean there is the normal
+    of a point about radius / 3 inside, which turns the gun too late and then all at once as the
+    pass reaches the edge). A normal that changes linearly over the surface (a sphere, to first
+    order) is reproduced, a flat part's exactly; where fewer than three faces or faces in a line
+    are in reach, the weighted mean.
+    """
     from scipy.spatial import cKDTree
 
     F = part.faces if faces is None else part.faces[np.asarray(faces, dtype=bool)]
@@ -91,14 +100,37 @@ def smoothed_normals(part: Part, faces=None, radius: float | None = None) -> np.
         edges = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2)
         radius = 2.0 * float(np.median(edges)) if edges.size else 0.0
     used = np.flatnonzero(np.linalg.norm(acc, axis=1) > 0)
-    if radius > 0 and len(used) > 1:
-        tree = cKDTree(part.vertices[used])
-        D = tree.sparse_distance_matrix(tree, radius, output_type="coo_matrix")
-        w = np.exp(-2.0 * (D.data / radius) ** 2)
-        W = csr_matrix((w, (D.row, D.col)), shape=(len(used), len(used))).tolil()
-        W.setdiag(1.0)  # each vertex itself (distance 0 may not be stored)
-        W = W.tocsr()
-        acc[used] = W @ _unit(acc[used])
+    if radius > 0 and len(used) > 0:
+        Vu = part.vertices[used]
+        centres = tri.mean(axis=1)
+        area = 0.5 * np.linalg.norm(n, axis=1)
+        nf = _unit(n)
+        D = cKDTree(Vu).sparse_distance_matrix(cKDTree(centres), radius, output_type="coo_matrix")
+        row, col = D.row, D.col
+        w = np.exp(-2.0 * (D.data / radius) ** 2) * area[col]
+        # tangent frame of each vertex (from its own faces' normal)
+        n0 = _unit(acc[used])
+        helper = np.where(np.abs(n0[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+        e1 = _unit(np.cross(n0, helper))
+        e2 = np.cross(n0, e1)
+        dx = centres[col] - Vu[row]
+        phi = np.column_stack([np.ones(len(row)), np.sum(dx * e1[row], axis=1) / radius,
+                               np.sum(dx * e2[row], axis=1) / radius])
+        M = np.zeros((len(used), 3, 3))
+        rhs = np.zeros((len(used), 3, 3))
+        np.add.at(M, row, w[:, None, None] * phi[:, :, None] * phi[:, None, :])
+        np.add.at(rhs, row, w[:, None, None] * phi[:, :, None] * nf[col][:, None, :])
+        count = np.bincount(row, minlength=len(used))
+        mean = np.divide(rhs[:, 0], M[:, 0, 0, None], out=np.zeros((len(used), 3)),
+                         where=M[:, 0, 0, None] > 0)
+        scale = np.maximum(M[:, 0, 0], 1e-300)
+        regular = (count >= 3) & (np.linalg.det(M) / scale ** 3 > 1e-6)
+        fit = np.zeros((len(used), 3))
+        if np.any(regular):
+            fit[regular] = np.linalg.solve(M[regular], rhs[regular])[:, 0]
+        est = np.where(regular[:, None], fit, mean)
+        ok = np.linalg.norm(est, axis=1) > 0
+        acc[used[ok]] = est[ok]
     return _unit(acc)
 
 
@@ -234,12 +266,15 @@ class PoseRun:
     """Gun poses in the part frame with their spray flags (a piece of the final path).
 
     ``positions`` (N, 3), ``rotations`` (N, 3, 3) (columns: tool x, y, z in the part frame),
-    ``spray`` (N,) bool.
+    ``spray`` (N,) bool; ``joins`` (N, 3), optional: at the samples where the path is straight
+    with a fixed orientation to second order (the ends of the U turns, approach and retract),
+    the unit direction of travel, NaN elsewhere (:func:`smooth_geometry` splits the path there).
     """
 
     positions: np.ndarray
     rotations: np.ndarray
     spray: np.ndarray
+    joins: np.ndarray | None = None
 
 
 def _frames(z, x, spin: float) -> np.ndarray:
@@ -291,6 +326,65 @@ def _straight(p0, R0, length: float, step: float, spin: float, backwards: bool =
     return p0 + f[:, None] * t, np.broadcast_to(R0, (m, 3, 3)).copy()
 
 
+#: Samples at the end of a pass over which its direction, curvature and turn rate are estimated.
+_END_FIT = 7
+
+
+def _end_rates(positions, rotations, spin: float):
+    """At the last sample of a run of poses: unit tangent ``t``, curvature vector ``k``
+    (``d2p/ds2``) and body turn rate ``w`` (``dR/ds = R [w]x``, rad per length), from a
+    quadratic least-squares fit over the last :data:`_END_FIT` samples in arc length. A run of
+    fewer than three samples: the tool's travel direction, no curvature, no turn."""
+    from scipy.spatial.transform import Rotation
+
+    P, R = positions[-_END_FIT:], rotations[-_END_FIT:]
+    if len(P) < 3:
+        t = _travel(R[-1], spin)
+        if len(P) == 2 and np.linalg.norm(P[1] - P[0]) > 0:
+            t = _unit(P[1] - P[0])
+        return t, np.zeros(3), np.zeros(3)
+    seg = np.linalg.norm(np.diff(P, axis=0), axis=1)
+    sa = np.concatenate([[0.0], np.cumsum(seg)])
+    sa = sa - sa[-1]  # <= 0, 0 at the end
+    A = np.column_stack([sa, 0.5 * sa ** 2])
+    cp, *_ = np.linalg.lstsq(A, P - P[-1], rcond=None)
+    rv = Rotation.from_matrix(np.einsum("ji,njk->nik", R[-1], R)).as_rotvec()
+    cr, *_ = np.linalg.lstsq(A, rv, rcond=None)
+    t = _unit(cp[0])
+    k = cp[1] - (cp[1] @ t) * t  # curvature is normal to the tangent
+    return t, k, cr[0]
+
+
+def _ease_out(p0, R0, t, k, w, length: float, step: float):
+    """Poses along ``length`` of arc from (p0, R0), leaving along ``t`` with curvature ``k``
+    and body turn rate ``w`` that fade as ``(1 - s/length)^2``: at the far end the path is
+    straight and the orientation fixed, with the first derivatives of both zero (a U turn joins
+    there smoothly); first sample p0 excluded. A pass on a curved surface thus runs on without
+    a jump of its curvature or of the gun's turn rate where the part ends."""
+    from scipy.spatial.transform import Rotation
+
+    m = max(1, int(math.ceil(length / step - 1e-9)))
+    s = np.linspace(0.0, length, m + 1)[1:, None]
+    L = length
+    B = L / 3.0 * (1.0 - (1.0 - s / L) ** 3)  # integral of (1 - s/L)^2
+    C = L / 3.0 * (s - L / 4.0 * (1.0 - (1.0 - s / L) ** 4))  # integral of B
+    pos = p0 + s * t + C * k
+    rot = R0 @ Rotation.from_rotvec(B * w).as_matrix().reshape(-1, 3, 3)
+    return pos, rot, _unit(t + B[-1] * k)
+
+
+def _extension(run: PoseRun, length: float, step: float, spin: float, *, at_start: bool):
+    """``length`` of overspray past the last sample of ``run`` (past the first, ``at_start``,
+    returned in travel order): see :func:`_ease_out`. Returns positions, rotations and the
+    direction of travel at the far end."""
+    P, R = (run.positions[::-1], run.rotations[::-1]) if at_start else (run.positions, run.rotations)
+    t, k, w = _end_rates(P, R, spin)
+    if at_start and len(P) < 3:  # the tool's travel direction, reversed
+        t = -t if len(P) < 2 or np.linalg.norm(P[1] - P[0]) == 0 else t
+    p, r, t_end = _ease_out(P[-1], R[-1], t, k, w, length, step)
+    return (p[::-1], r[::-1], -t_end) if at_start else (p, r, t_end)
+
+
 def _bridge(p0, R0, p1, R1, step: float, *, min_inner: int = 1):
     """Poses strictly between (p0, R0) and (p1, R1): linear positions, slerped rotations, at
     most ``step`` apart, at least ``min_inner`` of them."""
@@ -306,7 +400,12 @@ def _bridge(p0, R0, p1, R1, step: float, *, min_inner: int = 1):
 def extend_pass(runs: list[PoseRun], *, overspray: float, step: float, spin: float = 0.0) -> PoseRun:
     """One pass from its stretches: ``overspray`` before the first and after the last (spray
     on), gaps of at most ``2 overspray`` crossed spray on, wider ones extended by ``overspray``
-    on each side and crossed spray off in between."""
+    on each side and crossed spray off in between.
+
+    An extension leaves the part along the pass with the pass's curvature and turn rate fading
+    to zero (:func:`_ease_out`; on a flat part: a straight line at a fixed orientation), so the
+    gun reaches the end of the overspray moving straight at a fixed orientation; the pass's
+    ``joins`` give the direction of travel at both ends."""
     if not (math.isfinite(overspray) and overspray >= 0):
         raise ValueError(f"overspray must be a length >= 0; got {overspray!r}")
     P, R, S = [], [], []
@@ -316,10 +415,13 @@ def extend_pass(runs: list[PoseRun], *, overspray: float, step: float, spin: flo
         R.append(np.asarray(r).reshape(-1, 3, 3))
         S.append(np.full(len(P[-1]), bool(on)))
 
-    first = runs[0]
+    first, last = runs[0], runs[-1]
+    t_first, _, _ = _end_rates(first.positions[::-1], first.rotations[::-1], spin)
+    t_first = -t_first if len(first.positions) >= 2 else _travel(first.rotations[0], spin)
+    t_last, _, _ = _end_rates(last.positions, last.rotations, spin)
     if overspray > 0:
-        p, r = _straight(first.positions[0], first.rotations[0], overspray, step, spin, backwards=True)
-        add(p[::-1], r[::-1], True)
+        p, r, t_first = _extension(first, overspray, step, spin, at_start=True)
+        add(p, r, True)
     for k, run in enumerate(runs):
         add(run.positions, run.rotations, True)
         if k + 1 < len(runs):
@@ -330,84 +432,132 @@ def extend_pass(runs: list[PoseRun], *, overspray: float, step: float, spin: flo
                              step, min_inner=0), True)
             else:
                 none = (np.empty((0, 3)), np.empty((0, 3, 3)))
-                pa, ra = (_straight(run.positions[-1], run.rotations[-1], overspray, step, spin)
+                pa, ra = (_extension(run, overspray, step, spin, at_start=False)[:2]
                           if overspray > 0 else none)
-                pb, rb = (_straight(nxt.positions[0], nxt.rotations[0], overspray, step, spin, backwards=True)
+                pb, rb = (_extension(nxt, overspray, step, spin, at_start=True)[:2]
                           if overspray > 0 else none)
                 add(pa, ra, True)
                 ea = (pa[-1], ra[-1]) if len(pa) else (run.positions[-1], run.rotations[-1])
-                sb = (pb[-1], rb[-1]) if len(pb) else (nxt.positions[0], nxt.rotations[0])
+                sb = (pb[0], rb[0]) if len(pb) else (nxt.positions[0], nxt.rotations[0])
                 add(*_bridge(*ea, *sb, step), False)
-                add(pb[::-1], rb[::-1], True)
-    last = runs[-1]
+                add(pb, rb, True)
     if overspray > 0:
-        add(*_straight(last.positions[-1], last.rotations[-1], overspray, step, spin), True)
-    return PoseRun(np.concatenate(P), np.concatenate(R), np.concatenate(S))
+        p, r, t_last = _extension(last, overspray, step, spin, at_start=False)
+        add(p, r, True)
+    pos = np.concatenate(P)
+    joins = np.full(pos.shape, np.nan)
+    joins[0], joins[-1] = t_first, t_last
+    return PoseRun(pos, np.concatenate(R), np.concatenate(S), joins)
 
 
-def _turn(p0, R0, p1, R1, step: float, spin: float):
-    """Interior poses of a U turn from (p0, R0) to (p1, R1): a quintic Hermite curve leaving along
-    the first travel direction and arriving along the second with zero curvature at both ends
-    (tangent length twice the gap: the loop reaches half the gap past the ends), so the tool's
-    turn about its axis starts and ends at rest; gun axis blended with a smootherstep, tool x
-    along the curve."""
+def _septic(t):
+    """The septic Hermite basis on [0, 1] for end values and tangents, zero second and third
+    derivatives at both ends: ``(h0, h1, h2, h3)`` and their derivatives."""
+    def tangent(t):  # t - 20 t^4 + 45 t^5 - 36 t^6 + 10 t^7: slope 1 at 0, flat to third order at 1
+        return t - 20 * t ** 4 + 45 * t ** 5 - 36 * t ** 6 + 10 * t ** 7, \
+            1 - 80 * t ** 3 + 225 * t ** 4 - 216 * t ** 5 + 70 * t ** 6
+
+    step = 35 * t ** 4 - 84 * t ** 5 + 70 * t ** 6 - 20 * t ** 7
+    dstep = 140 * t ** 3 - 420 * t ** 4 + 420 * t ** 5 - 140 * t ** 6
+    h1, d1 = tangent(t)
+    g, dg = tangent(1.0 - t)
+    return (1 - step, h1, step, -g), (-dstep, d1, dstep, dg)
+
+
+def _turn(p0, R0, p1, R1, step: float, spin: float, t0=None, t1=None):
+    """Interior poses of a U turn from (p0, R0) to (p1, R1): a septic Hermite curve leaving along
+    the first travel direction ``t0`` and arriving along the second ``t1`` (default the tools'
+    travel directions) with zero curvature and zero rate of curvature at both ends (tangent
+    length twice the gap), so the tool's turn about its axis starts and ends at rest with no
+    jump of its angular acceleration; gun axis blended with the same septic step (at rest to
+    third order at both ends); tool x along the curve (see below)."""
     gap = float(np.linalg.norm(p1 - p0))
     L = 2.0 * gap
-    m0, m1 = L * _travel(R0, spin), L * _travel(R1, spin)
-    length = 1.6 * gap + 1e-12  # about the curve's length (a half circle is pi/2 gap)
+    t0 = _travel(R0, spin) if t0 is None else t0
+    t1 = _travel(R1, spin) if t1 is None else t1
+    m0, m1 = L * t0, L * t1
+    length = 2.0 * gap + 1e-12  # about the curve's length
     m = max(4, int(math.ceil(length / step - 1e-9)))
     t = np.linspace(0.0, 1.0, m + 1)[1:-1, None]
-    t2, t3, t4, t5 = t ** 2, t ** 3, t ** 4, t ** 5
-    h0, h1 = 1 - 10 * t3 + 15 * t4 - 6 * t5, t - 6 * t3 + 8 * t4 - 3 * t5
-    h2, h3 = 10 * t3 - 15 * t4 + 6 * t5, -4 * t3 + 7 * t4 - 3 * t5
+    (h0, h1, h2, h3), (d0, d1, d2, d3) = _septic(t)
     pos = h0 * p0 + h1 * m0 + h2 * p1 + h3 * m1
-    d0, d1 = -30 * t2 + 60 * t3 - 30 * t4, 1 - 18 * t2 + 32 * t3 - 15 * t4
-    d2, d3 = 30 * t2 - 60 * t3 + 30 * t4, -12 * t2 + 28 * t3 - 15 * t4
-    tangent = d0 * p0 + d1 * m0 + d2 * p1 + d3 * m1
-    w = h2  # smootherstep 10t^3 - 15t^4 + 6t^5: the axis turns from rest to rest
-    z = (1 - w) * R0[:, 2] + w * R1[:, 2]
-    return pos, _frames(z, tangent, spin)
+    tangent = _unit(d0 * p0 + d1 * m0 + d2 * p1 + d3 * m1)
+    z = (1 - h2) * R0[:, 2] + h2 * R1[:, 2]
+    # tool x along the curve, plus the ends' own offsets from it faded with the same step (on a
+    # curved part the tool's x, normal to the cut, is not exactly the tip's direction of travel)
+    x = tangent + (1 - h2) * (_travel(R0, spin) - t0) + h2 * (_travel(R1, spin) - t1)
+    return pos, _frames(z, x, spin)
 
 
 def link_passes(passes: list[PoseRun], *, step: float, approach: float, spin: float = 0.0) -> PoseRun:
     """Join the passes: a U turn between consecutive passes (spray off), a straight approach of
-    ``approach`` before the first and a retract after the last (spray off)."""
+    ``approach`` before the first and a retract after the last (spray off). The ends of the
+    turns, approach and retract are ``joins`` (see :class:`PoseRun`)."""
     if not (math.isfinite(approach) and approach >= 0):
         raise ValueError(f"approach must be a length >= 0; got {approach!r}")
-    P, R, S = [], [], []
+    P, R, S, J = [], [], [], []
 
-    def add(p, r, on):
+    def add(p, r, on, joins=None):
         if len(p):
             P.append(np.asarray(p).reshape(-1, 3))
             R.append(np.asarray(r).reshape(-1, 3, 3))
             S.append(np.full(len(P[-1]), bool(on)) if np.ndim(on) == 0 else np.asarray(on, dtype=bool))
+            J.append(np.full((len(P[-1]), 3), np.nan) if joins is None else np.asarray(joins, dtype=float))
+
+    def ends(ps):
+        j = np.full((len(ps.positions), 3), np.nan) if ps.joins is None else ps.joins
+        t0 = j[0] if np.all(np.isfinite(j[0])) else _travel(ps.rotations[0], spin)
+        t1 = j[-1] if np.all(np.isfinite(j[-1])) else _travel(ps.rotations[-1], spin)
+        return j, t0, t1
 
     a = passes[0]
+    _, ta, _ = ends(a)
     if approach > 0:
-        p, r = _straight(a.positions[0], a.rotations[0], approach, step, spin, backwards=True)
-        add(p[::-1], r[::-1], False)
+        p = a.positions[0] - np.linspace(0.0, approach, max(1, int(math.ceil(approach / step - 1e-9))) + 1)[
+            1:, None] * ta
+        jn = np.full((len(p), 3), np.nan)
+        jn[-1] = ta
+        add(p[::-1], np.broadcast_to(a.rotations[0], (len(p), 3, 3)), False, jn[::-1])
     for k, ps in enumerate(passes):
-        add(ps.positions, ps.rotations, ps.spray)
+        j, _, t_out = ends(ps)
+        j = j.copy()
+        j[0], j[-1] = ends(ps)[1], t_out
+        if k == 0 and approach > 0:
+            j[0] = np.nan  # the approach runs on straight: no join at the pass's start
+        if k == len(passes) - 1 and approach > 0:
+            j[-1] = np.nan
+        add(ps.positions, ps.rotations, ps.spray, j)
         if k + 1 < len(passes):
             nxt = passes[k + 1]
-            add(*_turn(ps.positions[-1], ps.rotations[-1], nxt.positions[0], nxt.rotations[0], step, spin),
-                False)
+            add(*_turn(ps.positions[-1], ps.rotations[-1], nxt.positions[0], nxt.rotations[0], step, spin,
+                       t_out, ends(nxt)[1]), False)
     z = passes[-1]
     if approach > 0:
-        add(*_straight(z.positions[-1], z.rotations[-1], approach, step, spin), False)
-    return PoseRun(np.concatenate(P), np.concatenate(R), np.concatenate(S))
+        _, _, tz = ends(z)
+        p = z.positions[-1] + np.linspace(0.0, approach, max(1, int(math.ceil(approach / step - 1e-9))) + 1)[
+            1:, None] * tz
+        jn = np.full((len(p), 3), np.nan)
+        jn[-1] = tz
+        add(p, np.broadcast_to(z.rotations[-1], (len(p), 3, 3)), False, jn)
+    return PoseRun(np.concatenate(P), np.concatenate(R), np.concatenate(S), np.concatenate(J))
 
 
 def _dedupe(run: PoseRun, tol: float) -> PoseRun:
-    """Drop samples coinciding with the previous one (their spray flags are or-ed)."""
+    """Drop samples coinciding with the previous one (their spray flags are or-ed, a join kept)."""
     d = np.linalg.norm(np.diff(run.positions, axis=0), axis=1)
     ang = np.linalg.norm(run.rotations[1:] - run.rotations[:-1], axis=(1, 2))
     dup = np.flatnonzero((d <= tol) & (ang <= 1e-9))
     spray = run.spray.copy()
     spray[dup] |= spray[dup + 1]
+    joins = None
+    if run.joins is not None:
+        joins = run.joins.copy()
+        take = dup[~np.all(np.isfinite(joins[dup]), axis=1)]
+        joins[take] = joins[take + 1]
     keep = np.ones(len(spray), dtype=bool)
     keep[dup + 1] = False
-    return PoseRun(run.positions[keep], run.rotations[keep], spray[keep])
+    return PoseRun(run.positions[keep], run.rotations[keep], spray[keep],
+                   None if joins is None else joins[keep])
 
 
 def surface_raster(part: Part, *, spacing: float, standoff: float, overspray: float, approach: float,
@@ -454,25 +604,89 @@ def surface_raster(part: Part, *, spacing: float, standoff: float, overspray: fl
     base = path_from_poses(transform(rot, pos), rotation_radius=rotation_radius)
     name = (f"{part.name}: {len(cuts)} passes {spacing:g} {part.unit} apart, standoff {standoff:g}, "
             f"overspray {overspray:g}, spin {math.degrees(spin):g} deg")
-    geometry = smooth_geometry(base.u, base.positions, base.rotations)
+    joins = None if run.joins is None else run.joins @ T[:3, :3].T
+    geometry = smooth_geometry(base.u, base.positions, base.rotations, joins)
     return Path(base.positions, base.rotations, base.u, geometry, name, run.spray)
 
 
-def smooth_geometry(u, positions, rotations):
-    """``u (M,) -> (positions (M, 3), rotations (M, 3, 3))`` through the samples: a cubic spline of
-    the positions and a rotation spline (scipy's, continuous angular acceleration), so that the
+def _piece(u, positions, rotations, t_start, t_end):
+    """Quintic splines of the positions and of the rotation vectors about the middle sample
+    through one piece's samples; at an end with a direction of travel ``t`` (not NaN) the
+    first derivative of the position is ``t``, the second zero and the orientation at rest to
+    second order (so a straight stretch at a fixed orientation is reproduced exactly), at
+    the others the third and fourth derivatives are zero."""
+    from scipy.interpolate import make_interp_spline
+    from scipy.spatial.transform import Rotation
+
+    R_ref = rotations[len(rotations) // 2]
+    rv = Rotation.from_matrix(np.einsum("ji,njk->nik", R_ref, rotations)).as_rotvec()
+    zero = np.zeros(3)
+
+    def bc(t):
+        if t is not None and np.all(np.isfinite(t)):
+            return [(1, t), (2, zero)], [(1, zero), (2, zero)]
+        return [(3, zero), (4, zero)], [(3, zero), (4, zero)]
+
+    (pa, ra), (pb, rb) = bc(t_start), bc(t_end)
+    if len(u) < 3 and (pa[0][0] != 1 or pb[0][0] != 1):  # too few samples for free ends: linear
+        pos = make_interp_spline(u, positions, k=1, axis=0)
+        rot = make_interp_spline(u, rv, k=1, axis=0)
+    else:
+        pos = make_interp_spline(u, positions, k=5, bc_type=(pa, pb), axis=0)
+        rot = make_interp_spline(u, rv, k=5, bc_type=(ra, rb), axis=0)
+    return pos, rot, R_ref
+
+
+def smooth_geometry(u, positions, rotations, joins=None):
+    """``u (M,) -> (positions (M, 3), rotations (M, 3, 3))`` through the samples, so that the
     joints can follow the path between samples without corners (linear pieces would turn by a
-    finite angle at every sample of a curve)."""
+    finite angle at every sample of a curve).
+
+    The path is split at its ``joins`` (``(N, 3)``: the unit direction of travel where the
+    path is straight at a fixed orientation, NaN elsewhere; default none): each piece is a
+    quintic spline of the positions and of the rotation vectors (about the piece's middle
+    sample), which at the joins moves along the direction given, with no curvature and no
+    turn to second order. A straight pass at a fixed orientation is thus reproduced exactly,
+    and what happens in a U turn does not ring into the passes (one spline through the whole
+    path would spread a turn's curvature over the passes next to it, decaying by a constant
+    factor per sample). Without joins: one cubic spline of the positions and scipy's rotation
+    spline.
+    """
     from scipy.interpolate import CubicSpline
     from scipy.spatial.transform import Rotation, RotationSpline
 
     u = np.asarray(u, dtype=float)
-    pos = CubicSpline(u, np.asarray(positions, dtype=float), axis=0)
-    rot = RotationSpline(u, Rotation.from_matrix(np.asarray(rotations, dtype=float)))
+    positions = np.asarray(positions, dtype=float)
+    rotations = np.asarray(rotations, dtype=float)
+    if joins is None:
+        pos = CubicSpline(u, positions, axis=0)
+        rs = RotationSpline(u, Rotation.from_matrix(rotations))
+
+        def geometry(x):
+            x = np.atleast_1d(np.asarray(x, dtype=float))
+            return pos(x), rs(x).as_matrix().reshape(-1, 3, 3)
+
+        return geometry
+    joins = np.asarray(joins, dtype=float)
+    at = np.flatnonzero(np.all(np.isfinite(joins), axis=1))
+    cuts = np.unique(np.concatenate([[0], at[(at > 0) & (at < len(u) - 1)], [len(u) - 1]]))
+    pieces = []
+    for i0, i1 in zip(cuts[:-1], cuts[1:]):
+        sl = slice(i0, i1 + 1)
+        pieces.append(_piece(u[sl], positions[sl], rotations[sl], joins[i0], joins[i1]))
+    bounds = u[cuts]
 
     def geometry(x):
         x = np.atleast_1d(np.asarray(x, dtype=float))
-        return pos(x), rot(x).as_matrix().reshape(-1, 3, 3)
+        k = np.clip(np.searchsorted(bounds, x, side="right") - 1, 0, len(pieces) - 1)
+        P = np.empty((len(x), 3))
+        R = np.empty((len(x), 3, 3))
+        for j in np.unique(k):
+            m = k == j
+            pos, rot, R_ref = pieces[j]
+            P[m] = pos(x[m])
+            R[m] = R_ref @ Rotation.from_rotvec(rot(x[m])).as_matrix().reshape(-1, 3, 3)
+        return P, R
 
     return geometry
 
