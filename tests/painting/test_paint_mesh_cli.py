@@ -31,8 +31,11 @@ def test_paint_mesh_writes_every_output(panel_run):
     code, out = panel_run
     assert code == 0
     names = {p.name for p in out.iterdir()}
+    # the film's outputs and the timing figures of issue 16 (gun speed, joint speeds and accelerations)
     assert names == {"trajectory.csv", "thickness.csv", "thickness.png", "view.html", "report.txt",
-                     "report.json"}
+                     "report.json", "gun_speed.png", "joint_limits.png"}
+    for png in ("gun_speed.png", "joint_limits.png"):
+        assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     header = (out / "trajectory.csv").read_text().splitlines()[0].split(",")
     assert header[:4] == ["t", "x", "y", "z"] and header[-1] == "spray"
     table = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
@@ -208,3 +211,24 @@ def test_paint_mesh_from_a_file_in_metres_and_on_the_irb5400(capsys, tmp_path):
                             "--no-plots", "--out", out2)
     assert code == 0, err
     assert json.loads((out2 / "report.json").read_text())["film"]["mean_um"] > 0
+
+
+def test_paint_mesh_without_acceleration_limits_runs_at_constant_path_speed():
+    """The IRB 5400's URDF gives no acceleration limits: no time-optimal timing is possible, so
+    the path runs at the constant path speed of the commanded gun speed, and says so; the gun's
+    speed on every sprayed row (FK of the joint velocities) is the commanded one."""
+    import ik7r
+    from ik7r.painting import workpiece_frame
+    from ik7r.painting.mesh import paint_mesh
+    from ik7r.painting.parts import builtin_part
+
+    robot = ik7r.load_robot("irb5400")
+    assert robot.acceleration is None
+    part = builtin_part("panel", T_base_part=workpiece_frame((1600.0, 0.0, 500.0)))
+    res = paint_mesh(robot, part, spacing=100.0, speed=400.0, occlusion=False)
+    assert "no joint acceleration limits" in res.plan["timing"] and "timing:" in res.report()
+    tr = res.program.trajectory
+    assert tr.spray.any()
+    np.testing.assert_allclose(tr.gun_speed[tr.spray], 400.0, rtol=1e-3)
+    assert np.all(tr.speed_ratio <= 1.0)
+    assert res.stats.mean > 0

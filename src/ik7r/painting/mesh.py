@@ -109,7 +109,7 @@ class MeshPaintResult:
         if p.get("ripple_warning"):
             lines.append("warning: " + p["ripple_warning"])
         lines += [
-            f"speed {self.speed:.4g} {u}/s ({p['speed_why']})",
+            f"speed {self.speed:.4g} {u}/s ({p['speed_why']}); timing: {p['timing']}",
             f"film step: the pattern moves at most {self.step:.4g} {u} between instants "
             f"({len(self.poses.t)} instants, {self.poses.spray_time:.3f} s sprayed): integration error "
             f"below 0.5 % of the peak; occlusion by a depth buffer seen from the gun tip",
@@ -163,6 +163,9 @@ def paint_mesh(robot, part: Part, *, gun="bell", spacing: float | None = None, s
     the path deviation tolerance. The timing is :func:`~ik7r.painting.time_path`'s process mode:
     ``speed`` on the passes, time-optimal within the joint limits on the turns, approach and
     retract; ``slow_down`` slows a pass where the speed would break a limit (the film shows it).
+    A robot without acceleration limits (the IRB 5400 of the URDF) runs the whole path at the
+    constant path speed ``speed`` instead (the plan's ``timing`` says so), and a joint speed
+    limit that breaks is an error naming the speed to command.
     Raises ``PathNotFeasible`` when no continuous joint trajectory follows the raster within the
     limits (or the speed breaks one, without ``slow_down``).
     """
@@ -204,8 +207,22 @@ def paint_mesh(robot, part: Part, *, gun="bell", spacing: float | None = None, s
     h = _film.film_step(g) if step is None else float(step)
     opts = dict(kind=kind, tolerance=tolerance, rate=rate)
 
+    if robot.acceleration is None:
+        plan["timing"] = (f"robot {robot.name} has no joint acceleration limits: the whole path at the "
+                          f"constant path speed of the commanded gun speed (the gun at that speed on the "
+                          f"passes, slower in the turns where it rotates), ramps in the approach and "
+                          f"retract; the joint speed limits checked, the accelerations unlimited")
+    else:
+        plan["timing"] = ("the commanded gun speed where the spray is on, time-optimal within the joint "
+                          "speed and acceleration limits elsewhere")
+
+    def timed(v):
+        if robot.acceleration is not None:
+            return time_path(robot, solution, speed=v, slow_down=slow_down, **opts)
+        return _constant_path_speed(robot, solution, v, approach, opts)
+
     def run(v):
-        traj, more = time_path(robot, solution, speed=v, slow_down=slow_down, **opts)
+        traj, more = timed(v)
         poses = _film.gun_poses(robot, traj, path, part.T_base_part, g, step=h)
         thick = _film.part_film(part, poses, g, occlusion=occlusion, resolution=resolution)
         return traj, more, poses, thick
@@ -232,6 +249,28 @@ def paint_mesh(robot, part: Part, *, gun="bell", spacing: float | None = None, s
 
     program = PaintResult(robot, path, solution, traj, list(solution.events) + list(more))
     return MeshPaintResult(program, part, g, faces, thick, stats, poses, h, v, plan)
+
+
+def _constant_path_speed(robot, solution, speed: float, approach: float, opts: dict):
+    """For a robot without acceleration limits: the path at the constant path speed ``speed``
+    (with ``u`` the arc length on a pass, the gun's speed there), ramps of at most 1 s shortened
+    to lie in the approach and retract; a joint speed limit exceeded is an error saying by how
+    much (the speed to command instead), not a warning."""
+    from .interpolate import DEFAULT_RAMP
+
+    L = float(solution.path.u[-1])
+    r = max(min(DEFAULT_RAMP, 2.0 * approach / speed), 1e-3) if approach > 0 else DEFAULT_RAMP
+    traj, more = time_path(robot, solution, duration=L / speed + r, ramp=r, **opts)
+    ratio = np.asarray(traj.speed_ratio, dtype=float)
+    if robot.velocity is not None and np.max(ratio) > 1.0 + 1e-6:
+        from .events import JOINT_LABELS
+
+        j = int(np.nanargmax(ratio))
+        raise ValueError(f"robot {robot.name} has no acceleration limits, so the path is timed at a constant "
+                         f"path speed of {speed:g} {robot.unit}/s: {JOINT_LABELS[j]} then needs "
+                         f"{ratio[j]:.2f} x its speed limit at t = {traj.speed_peak_t[j]:.3f} s; command at "
+                         f"most {speed / ratio[j]:.4g} {robot.unit}/s or give the robot acceleration limits")
+    return traj, more
 
 
 def write_trajectory_spray_csv(robot, trajectory, path, file):

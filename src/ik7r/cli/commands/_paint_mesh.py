@@ -3,7 +3,9 @@
 Writes into ``--out``: ``trajectory.csv`` (the columns of ``paint raster`` plus ``spray``, 0 or
 1), ``thickness.csv`` (``x,y,z,thickness_um`` per vertex, part frame and unit),
 ``thickness.png`` (heat map, colour bar in um), ``view.html`` (self-contained 3-D view),
-``report.txt`` and ``report.json`` (film statistics, the chosen spacing and speed, events).
+``gun_speed.png`` and ``joint_limits.png`` (the timing: gun speed, joint speeds and
+accelerations with their limits), ``report.txt`` and ``report.json`` (film statistics, the
+chosen spacing and speed, the timing, events).
 """
 
 from __future__ import annotations
