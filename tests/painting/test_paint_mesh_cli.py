@@ -123,8 +123,23 @@ def test_film_instants_follow_the_step_rule():
     c = T[:, :3, 3] + r.gun.standoff * T[:, :3, 2]
     move = np.linalg.norm(np.diff(c, axis=0), axis=1)
     assert move[poses.sprayed].max() <= h * (1 + 1e-3)
-    # the gun is on for the sprayed length at the commanded speed
-    assert poses.spray_time == pytest.approx(r.plan["sprayed_length"] / 600.0, rel=1e-3)
+    # the gun is on for the time the timing spends on the spray-on stretches: the sprayed length
+    # at the commanded speed, plus what the ramps (slower, into and out of the time-optimal
+    # turns) add; the ramps lie in the overspray, off the part
+    path = r.program.path
+    m = np.diff(np.concatenate([[0], path.spray.astype(int), [0]]))
+    runs = zip(np.flatnonzero(m == 1), np.flatnonzero(m == -1) - 1)
+    t_on = sum(float(tr.timing.t_of_u(path.u[b]) - tr.timing.t_of_u(path.u[a])) for a, b in runs)
+    assert poses.spray_time == pytest.approx(t_on, rel=1e-3)
+    ramps = tr.ramps
+    assert len(ramps) > 0
+    T_part_base = np.linalg.inv(r.part.T_base_part)
+    for u0, u1 in ramps:
+        x = (T_part_base[:3, :3] @ path.at(np.linspace(u0, u1, 50))[0].T + T_part_base[:3, 3:])[0]
+        assert np.all(np.abs(x) >= 250.0 - 1e-9)
+    extra = float(np.sum(tr.timing.t_of_u(ramps[:, 1]) - tr.timing.t_of_u(ramps[:, 0])
+                         - (ramps[:, 1] - ramps[:, 0]) / 600.0))
+    assert r.plan["sprayed_length"] / 600.0 * (1 - 1e-6) <= t_on <= r.plan["sprayed_length"] / 600.0 + extra
 
 
 _HARNESS = r"""
