@@ -492,7 +492,7 @@ class Trajectory:
     tolerance : float
         The deviation tolerance (length unit).
     speed_ratio, acceleration_ratio : ndarray, shape (6,)
-        Peak |dq| / velocity limit and peak |ddq| / acceleration limit per joint, from the
+        Peak ``|dq|`` / velocity limit and peak ``|ddq|`` / acceleration limit per joint, from the
         dense check (NaN when the robot has no such limits).
     kind : str
         ``"quintic"`` or ``"cubic"``.
