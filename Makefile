@@ -21,6 +21,7 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/run.py
+	$(BIN)/python benchmarks/edges.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests $(wildcard benchmarks)

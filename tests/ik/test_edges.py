@@ -29,14 +29,19 @@ def source_distance(robot, sols, q):
     return min(full, np.maximum(rest, total).min())
 
 
+#: Another implementation of the FK rounds differently: solutions the kernel accepted at its
+#: tolerance may read up to this much (mm) beyond it here.
+FK_ROUNDING = 1e-12
+
+
 def assert_exact(robot, sols, T):
     F = robot.fk(sols)
     dp = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1)
-    assert np.all(dp <= robot.position_tolerance), dp.max()
+    assert np.all(dp <= robot.position_tolerance + FK_ROUNDING), dp.max()
     if robot.name == "paper":
         G = np.array([dh_product(s) for s in sols]).reshape(-1, 4, 4)
         dp, dr = pose_errors(G, T)
-        assert np.all(dp < 1e-9) and np.all(dr < 1e-12)
+        assert np.all(dp < 1e-9 + FK_ROUNDING) and np.all(dr < 1e-12)
 
 
 @pytest.fixture(scope="module")
@@ -103,3 +108,54 @@ def test_arm_boundary_belongs_to_both_arms(paper):
             s = paper.ik(T, (arm, int(elbow), int(wrist)), seed=q)
             assert_exact(paper, s[None], T)
             assert paper.indicators(s)[0] == arm or abs(abs(wrap(s[0])) - math.pi / 2) <= 1e-6
+
+
+def _on_shoulder_set(rng, radial=0.0):
+    """A paper-robot joint vector whose virtual wrist centre is at signed distance ``radial``
+    (mm) from axis 1, built from conftest's eq. (1) product and reference.py's wrist geometry
+    (no ik7r code): q2 is solved by brentq for that distance."""
+    from reference import _wrist_geometry
+    from scipy.optimize import brentq
+
+    while True:
+        q = rng.uniform(-np.pi, np.pi, 6)
+        s = _wrist_geometry(np.array([abs(q[4])]))[0][0]  # offset of P' along axis 4
+
+        def radial_of(t2, q=q, s=s):
+            qq = q.copy()
+            qq[1] = t2
+            T4 = dh_product(qq, 0, 4)
+            P = T4[:3, 3] + s * T4[:3, 2]
+            return P[0] * np.cos(q[0]) + P[1] * np.sin(q[0]) - radial
+
+        ts = np.linspace(-np.pi, np.pi, 73)
+        gs = np.array([radial_of(t) for t in ts])
+        cells = np.flatnonzero(gs[:-1] * gs[1:] < 0)
+        if len(cells):
+            i = cells[rng.integers(len(cells))]
+            q[1] = brentq(radial_of, ts[i], ts[i + 1], xtol=1e-15, rtol=1e-15)
+            return q
+
+
+_OPEN = pytest.mark.xfail(reason="issue 12 item 2 open: on and within ~1e-6 mm of the shoulder set a "
+                           "few sources are still missed (about 1 in 5 on the set)", strict=False)
+
+
+@pytest.mark.parametrize("radial", [pytest.param(0.0, marks=_OPEN), pytest.param(1e-9, marks=_OPEN),
+                                    pytest.param(1e-6, marks=_OPEN), 1e-3, 1.0])
+def test_shoulder_singular_set(paper, radial):
+    """Virtual wrist centre on axis 1 (and near it): the orientation still fixes q1, every
+    solution is isolated and found, and ik returns the source for its own configuration."""
+    rng = np.random.default_rng(int(1204 + 1e3 * radial))
+    misses = []
+    for _ in range(40):
+        q = _on_shoulder_set(rng, radial * rng.choice([-1.0, 1.0]))
+        T = paper.fk(q)
+        sols = paper.ik_all(T)
+        assert_exact(paper, sols, T)
+        if source_distance(paper, sols, q) > 1e-7:
+            misses.append(q.tolist())
+            continue
+        s = paper.ik(T, int(paper.config_of(q)), seed=q)
+        assert_exact(paper, s[None], T)
+    assert misses == []

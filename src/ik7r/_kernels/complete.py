@@ -63,6 +63,9 @@ MERGE_WINDOW = 1e-3
 #: zero (rad) a local minimum of its bend gap must come to be a candidate (exact, deviating).
 SCAN_GRID = 32
 SCAN_PIECES = 8  # the grid and the pieces next to branch ends it may add
+#: The theta1 scan runs where the line of virtual centres passes this close (relative to the
+#: robot's size) to axis 1.
+SHOULDER_NEAR = 1e-2
 SCAN_NEAR = 1e-7
 SCAN_NEAR_DEVIATING = 1e-2
 
@@ -85,7 +88,7 @@ def _offsets(**sizes):
 # pose: a view of a stack entry costs nothing, a reshape does); these are their indices.
 _T07, _R07, _M, _Q, _T, _WR, _PSI = range(7)
 _W, WORK_SIZE = _offsets(
-    MATS=7 * 16, P=3, A=3, TH=6, Q6=6, QQ=6,
+    MATS=7 * 16, P=3, A=3, TH=7, Q6=6, QQ=6,
     BLO=_NBRACKETS, BHI=_NBRACKETS, BSURE=_NBRACKETS, FOUND=REFINE_GRID + 2,
     BCOEF=_NBRACKETS * _NB, CAST=_NB, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP, NB=1,
     SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES,
@@ -433,7 +436,7 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
 
 
 @njit
-def _bend_gap(t5, p, a, front, elbow, K, th):
+def _bend_gap(t5, p, a, front, elbow, K, th, t1_hint=0.0, in_plane=False):
     """The bend gap at wrist angle ``t5`` >= 0 on the arm branch (``front``, ``elbow``: +-1):
     the angle between axis 4 of the arm that places the virtual centre of that bend and the
     tool's approach ``a``, minus the wrist's bend ``phi(t5)``; zero exactly at solutions.
@@ -441,21 +444,28 @@ def _bend_gap(t5, p, a, front, elbow, K, th):
     stays accurate (to rounding of the angles) where d is flat in t5 (straight or fully bent
     wrist) and where two roots of the polynomial merge within its rounding. Writes the arm's
     DH cosines and sines into ``th`` (as :func:`_arm_from_psi`). Returns (gap, ok); ok is False
-    where the branch does not reach."""
+    where the branch does not reach. ``t1_hint``: theta1 when the virtual centre is on axis 1;
+    ``th[6]`` gets t5. ``in_plane``: theta1 is ``t1_hint`` (the virtual centre is taken in
+    that arm plane: near axis 1 its direction from the axis is rounding noise)."""
     x = K[L.SB] * math.sin(0.5 * t5)
     h = 1.0 - 2.0 * x * x  # cos(phi / 2)
     if h < 1e-9:
         return 0.0, False  # the fold of a 45 deg twist: the virtual centre is at infinity
     d = K[L.KW] / h
     t = K[L.D7] + d
-    t1, t2, t3, ok = arm_ik(p[0] - t * a[0], p[1] - t * a[1], p[2] - t * a[2], K[L.D4] + d, front,
-                            elbow, 0.0, K)
+    px = p[0] - t * a[0]
+    py = p[1] - t * a[1]
+    if in_plane:
+        ch, sh = math.cos(t1_hint), math.sin(t1_hint)
+        rho = ch * px + sh * py
+        px, py = rho * ch, rho * sh
+    t1, t2, t3, ok = arm_ik(px, py, p[2] - t * a[2], K[L.D4] + d, front, elbow, t1_hint, K)
     if not ok:
         return 0.0, False
     c1, s1 = math.cos(t1), math.sin(t1)
     c2, s2 = math.cos(t2), math.sin(t2)
     c3, s3 = math.cos(t3), math.sin(t3)
-    th[0], th[1], th[2], th[3], th[4], th[5] = c1, c2, c3, s1, s2, s3
+    th[0], th[1], th[2], th[3], th[4], th[5], th[6] = c1, c2, c3, s1, s2, s3, t5
     cp = c2 * c3 - s2 * s3  # psi = theta2 + theta3
     sp = s2 * c3 + c2 * s3
     e3 = K[L.EPS3]
@@ -470,6 +480,38 @@ def _bend_gap(t5, p, a, front, elbow, K, th):
 
 
 @njit
+def _shoulder_gap(t1, p, a, elbow, K, th):
+    """The bend gap as a function of theta1 (DH) on the elbow branch ``elbow`` (+-1), for a robot
+    without lateral offset: the virtual centre is where the line ``p - t a`` meets the arm's
+    plane at theta1, which fixes d and so theta5. Near the shoulder singular set (that line
+    passes close to axis 1) theta1 swings fast with d, and the residual polynomial's roots
+    there merge within its rounding; in theta1 they stay apart. Returns (gap, ok)."""
+    c1 = math.cos(t1)
+    s1 = math.sin(t1)
+    an = -s1 * a[0] + c1 * a[1]
+    if abs(an) < 1e-12:
+        return 0.0, False
+    d = (-s1 * p[0] + c1 * p[1]) / an - K[L.D7]
+    if not (K[L.DMIN] <= d <= K[L.DMAX]):
+        if K[L.DEVIATION] == 0.0 or not (0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]):
+            return 0.0, False
+        d = min(K[L.DMAX], max(K[L.DMIN], d))
+    t5 = theta5_cs_of_d(d, K)[0]
+    t = K[L.D7] + d
+    rho = c1 * (p[0] - t * a[0]) + s1 * (p[1] - t * a[1])
+    return _bend_gap(t5, p, a, 1.0 if rho >= 0.0 else -1.0, elbow, K, th, t1, True)
+
+
+@njit
+def _gap(t, p, a, front, elbow, K, th):
+    """The bend gap of :func:`_bend_gap` at theta5 = ``t`` on the branch (front, elbow), or with
+    ``front`` 0 that of :func:`_shoulder_gap` at theta1 = ``t`` on the elbow branch."""
+    if front != 0.0:
+        return _bend_gap(t, p, a, front, elbow, K, th)
+    return _shoulder_gap(t, p, a, elbow, K, th)
+
+
+@njit
 def _gap_root(t0, t1, g0, g1, p, a, front, elbow, K, th):
     """The root of the bend gap bracketed by [t0, t1] (``g0``, ``g1`` of opposite signs):
     Illinois, to the last bits."""
@@ -478,7 +520,7 @@ def _gap_root(t0, t1, g0, g1, p, a, front, elbow, K, th):
         t = (t0 * g1 - t1 * g0) / (g1 - g0)
         if not (min(t0, t1) < t < max(t0, t1)):
             t = 0.5 * (t0 + t1)
-        g, ok = _bend_gap(t, p, a, front, elbow, K, th)
+        g, ok = _gap(t, p, a, front, elbow, K, th)
         if not ok or g == 0.0:
             return t
         if (g > 0.0) == (g1 > 0.0):
@@ -503,14 +545,14 @@ def _gap_min(t0, t1, p, a, front, elbow, K, th):
     for _ in range(50):
         x1 = t1 - g * (t1 - t0)
         x2 = t0 + g * (t1 - t0)
-        f1, ok1 = _bend_gap(x1, p, a, front, elbow, K, th)
-        f2, ok2 = _bend_gap(x2, p, a, front, elbow, K, th)
+        f1, ok1 = _gap(x1, p, a, front, elbow, K, th)
+        f2, ok2 = _gap(x2, p, a, front, elbow, K, th)
         if ok1 and (not ok2 or abs(f1) < abs(f2)):
             t1 = x2
         else:
             t0 = x1
     t = 0.5 * (t0 + t1)
-    f, ok = _bend_gap(t, p, a, front, elbow, K, th)
+    f, ok = _gap(t, p, a, front, elbow, K, th)
     return t, abs(f) if ok else np.inf
 
 
@@ -546,10 +588,10 @@ def _scan_piece(ta, tb, first, sub, npieces, front, elbow, p, a, R07, Td, K, hin
     piece, the pieces next to branch ends are appended to ``sub``. Returns (count, npieces)."""
     m = SCAN_GRID
     gs = ws[_SCAN:_SCAN + m + 1]
-    th = ws[_TH:_TH + 6]
+    th = ws[_TH:_TH + 7]
     near = SCAN_NEAR if K[L.DEVIATION] == 0.0 else SCAN_NEAR_DEVIATING
     for i in range(m + 1):
-        g, ok = _bend_gap(ta + (tb - ta) * i / m, p, a, front, elbow, K, th)
+        g, ok = _gap(ta + (tb - ta) * i / m, p, a, front, elbow, K, th)
         gs[i] = g if ok else np.nan
     for i in range(m + 1):
         gi = gs[i]
@@ -563,7 +605,7 @@ def _scan_piece(ta, tb, first, sub, npieces, front, elbow, p, a, R07, Td, K, hin
                 tm = 0.5 * (t_in + t_out)
                 if tm == t_in or tm == t_out:
                     break
-                if _bend_gap(tm, p, a, front, elbow, K, th)[1]:
+                if _gap(tm, p, a, front, elbow, K, th)[1]:
                     t_in = tm
                 else:
                     t_out = tm
@@ -586,7 +628,7 @@ def _scan_piece(ta, tb, first, sub, npieces, front, elbow, p, a, R07, Td, K, hin
             t_lo = ta + (tb - ta) * lo_i / m
             t_hi = ta + (tb - ta) * hi_i / m
             tm, fm = _gap_min(t_lo, t_hi, p, a, front, elbow, K, th)
-            gm, okm = _bend_gap(tm, p, a, front, elbow, K, th)
+            gm, okm = _gap(tm, p, a, front, elbow, K, th)
             if okm and gm * gi < 0.0:
                 for t_end, g_end in ((t_lo, gs[lo_i]), (t_hi, gs[hi_i])):
                     if math.isfinite(g_end) and g_end * gm < 0.0:
@@ -603,13 +645,46 @@ def _scan_piece(ta, tb, first, sub, npieces, front, elbow, p, a, R07, Td, K, hin
 
 
 @njit
+def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Near the shoulder singular set (no lateral offset; the line of virtual centres
+    ``p - t a`` passes within SHOULDER_NEAR of the robot's size from axis 1, at a d in range):
+    every solution from the bend gap in theta1 (:func:`_shoulder_gap`) on a grid over the whole
+    turn, both elbow branches."""
+    if K[L.B] != 0.0:
+        return count
+    axy2 = a[0] * a[0] + a[1] * a[1]
+    if axy2 < 1e-24:
+        return count  # a along axis 1: P' is at one distance from it for every d
+    t = (p[0] * a[0] + p[1] * a[1]) / axy2
+    rx = p[0] - t * a[0]
+    ry = p[1] - t * a[1]
+    if rx * rx + ry * ry > (SHOULDER_NEAR * K[L.SCALE]) ** 2:
+        return count
+    d = t - K[L.D7]
+    if not (0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]):
+        return count
+    sub = ws[_SUB:_SUB + 2 * SCAN_PIECES]
+    for elbow in (1.0, -1.0):
+        sub[0] = -math.pi
+        sub[1] = math.pi
+        npieces = 1
+        j = 0
+        while j < npieces:
+            count, npieces = _scan_piece(sub[2 * j], sub[2 * j + 1], j == 0, sub, npieces, 0.0, elbow,
+                                         p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+            j += 1
+    return count
+
+
+@njit
 def _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     """Complete the arm branch's root ``t`` of the bend gap with the wrist; accept what is exact."""
-    th = ws[_TH:_TH + 6]
-    _, ok = _bend_gap(t, p, a, front, elbow, K, th)  # the arm of the root, into th
+    th = ws[_TH:_TH + 7]
+    _, ok = _gap(t, p, a, front, elbow, K, th)  # the arm of the root, into th; theta5 th[6]
     if ok:
-        count = _wrist_and_accept(th, t, math.cos(t), math.sin(t), R07, Td, K, hint, has_hint, out,
-                                  count, filt, ws, mats)
+        t5 = th[6]
+        count = _wrist_and_accept(th, t5, math.cos(t5), math.sin(t5), R07, Td, K, hint, has_hint,
+                                  out, count, filt, ws, mats)
     return count
 
 
@@ -788,6 +863,7 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
             tb = 2.0 * math.asin(math.sqrt(min(1.0, max(0.0, (1.0 - ws[_BLO + k]) / sb2))))
             count = _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws,
                                  mats)
+    count = _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
     if folded:
         count = _merge_folded(out, count)
     return count
