@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 import ik7r
-from ik7r.model import Robot
+from ik7r.robot import Robot
 
 
 def _wrap(x):
