@@ -2,7 +2,7 @@
 
 Each pose is made by forward kinematics from a known joint vector (the source), so "is the
 source among ik_all's answers (up to 2 pi; in q4 + q7 at a straight wrist)?" is an exact test
-that needs no reference solver. Every answer is also checked on conftest's independent
+that needs no reference solver. Every answer is also checked on helpers.py's independent
 product of the paper's eq. (1) matrices where the robot is the paper's.
 """
 
@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import dh_product, pose_errors, wrap
+from helpers import dh_product, pose_errors, wrap
 
 import ik7r
 
