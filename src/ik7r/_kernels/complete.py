@@ -57,15 +57,18 @@ FILTER_MARGIN_DEVIATING = 0.1
 FOLD_WINDOW = 1e-4
 #: Two exact solutions closer than this (rad, every joint) are one when the segment between
 #: them is exact too (see :func:`_add`).
-MERGE_WINDOW = 1e-3
+MERGE_WINDOW = 1e-2
 
 #: Grid of the theta5 scan of an undecided bracket (see :func:`_scan_theta5`), and how close to
 #: zero (rad) a local minimum of its bend gap must come to be a candidate (exact, deviating).
 SCAN_GRID = 32
-SCAN_PIECES = 8  # the grid and the pieces next to branch ends it may add
+SCAN_PIECES = 12  # the grid and the pieces (next to branch ends, around dips) it may add
 #: The theta1 scan runs where the line of virtual centres passes this close (relative to the
 #: robot's size) to axis 1.
 SHOULDER_NEAR = 1e-2
+#: Models that deviate from the idealised one: theta5 within this (rad) of 0 and pi is scanned
+#: when a root lies there.
+DEVIATING_ENDS = 2e-2
 SCAN_NEAR = 1e-7
 SCAN_NEAR_DEVIATING = 1e-2
 
@@ -188,7 +191,7 @@ def _straight_split(q, Q, K, hint, has_hint):
 def _add(q, out, count, Td, K, mats):
     """Append ``q`` (wrapped) to ``out[:count]`` unless it is already there: within DUP_TOL of
     a solution in every joint, or within MERGE_WINDOW and joined to it by a segment that is
-    exact all along (its midpoint verifies on the forward kinematics): where the FK is flat (a
+    exact all along (:func:`_joined`): where the FK is flat (a
     nearly singular arm and wrist at once) exact solutions come as clusters of shadows wider
     than DUP_TOL, while two distinct solutions have an inexact pose between them."""
     for i in range(6):
@@ -199,20 +202,28 @@ def _add(q, out, count, Td, K, mats):
             far = max(far, abs(wrap(out[k, i] - q[i])))
         if far <= DUP_TOL:
             return count
-        if far < MERGE_WINDOW and count < out.shape[0]:
-            mid = out[count]  # (free scratch until q is appended)
-            for i in range(6):
-                mid[i] = out[k, i] + 0.5 * wrap(q[i] - out[k, i])
-            T = mats[_T]
-            fk_user(mid, K, T)
-            dp, dr = residual(T, Td)
-            if dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]:
-                return count
+        if far < MERGE_WINDOW and count < out.shape[0] and _joined(out[k], q, out[count], Td, K, mats):
+            return count
     if count < out.shape[0]:
         for i in range(6):
             out[count, i] = q[i]
         count += 1
     return count
+
+
+@njit
+def _joined(q0, q1, mid, Td, K, mats):
+    """Whether the segment from ``q0`` to ``q1`` is exact all along (checked at a quarter, half
+    and three quarters of the way; ``mid`` (6,): scratch)."""
+    T = mats[_T]
+    for f in (0.5, 0.25, 0.75):
+        for i in range(6):
+            mid[i] = q0[i] + f * wrap(q1[i] - q0[i])
+        fk_user(mid, K, T)
+        dp, dr = residual(T, Td)
+        if dp > K[L.POS_TOL] or dr > K[L.ROT_TOL]:
+            return False
+    return True
 
 
 @njit
@@ -575,17 +586,18 @@ def _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws,
             while j < npieces:
                 t0 = sub[2 * j]
                 t1 = sub[2 * j + 1]
-                count, npieces = _scan_piece(t0, t1, j == 0, sub, npieces, front, elbow, p, a, R07,
+                count, npieces = _scan_piece(t0, t1, sub, npieces, front, elbow, p, a, R07,
                                              Td, K, hint, has_hint, out, count, filt, ws, mats)
                 j += 1
     return count
 
 
 @njit
-def _scan_piece(ta, tb, first, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_hint, out,
+def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_hint, out,
                 count, filt, ws, mats):
-    """One grid of :func:`_scan_theta5` over [ta, tb] on one arm branch; on the ``first``
-    piece, the pieces next to branch ends are appended to ``sub``. Returns (count, npieces)."""
+    """One grid of :func:`_scan_theta5` over [ta, tb] on one arm branch; the pieces next to
+    branch ends and around dips it finds are appended to ``sub`` (while there is room: a piece
+    is two cells of the one that found it, so they nest). Returns (count, npieces)."""
     m = SCAN_GRID
     gs = ws[_SCAN:_SCAN + m + 1]
     th = ws[_TH:_TH + 7]
@@ -596,8 +608,7 @@ def _scan_piece(ta, tb, first, sub, npieces, front, elbow, p, a, R07, Td, K, hin
     for i in range(m + 1):
         gi = gs[i]
         ti = ta + (tb - ta) * i / m
-        if first and i < m and math.isfinite(gi) != math.isfinite(gs[i + 1]) \
-                and npieces < SCAN_PIECES:
+        if i < m and math.isfinite(gi) != math.isfinite(gs[i + 1]) and npieces < SCAN_PIECES:
             # the branch ends in this cell: bisect for the end, then scan the defined part
             t_in = ti if math.isfinite(gi) else ta + (tb - ta) * (i + 1) / m
             t_out = ta + (tb - ta) * (i + 1) / m if math.isfinite(gi) else ti
@@ -615,12 +626,12 @@ def _scan_piece(ta, tb, first, sub, npieces, front, elbow, p, a, R07, Td, K, hin
             npieces += 1
         if not math.isfinite(gi):
             continue
-        t = -1.0
-        if gi == 0.0:
-            t = ti
-        elif i < m and math.isfinite(gs[i + 1]) and gi * gs[i + 1] < 0.0:
+        t = ti
+        have = gi == 0.0  # (theta1 may be negative: a flag, not a sentinel value)
+        if not have and i < m and math.isfinite(gs[i + 1]) and gi * gs[i + 1] < 0.0:
             t = _gap_root(ti, ta + (tb - ta) * (i + 1) / m, gi, gs[i + 1], p, a, front, elbow, K, th)
-        elif ((i == 0 or not math.isfinite(gs[i - 1]) or abs(gi) <= abs(gs[i - 1]))
+            have = True
+        elif (not have and (i == 0 or not math.isfinite(gs[i - 1]) or abs(gi) <= abs(gs[i - 1]))
               and (i == m or not math.isfinite(gs[i + 1]) or abs(gi) <= abs(gs[i + 1]))):
             # a dip of |gap|: a tangential root, or two roots within one grid cell
             lo_i = max(0, i - 1)
@@ -636,9 +647,16 @@ def _scan_piece(ta, tb, first, sub, npieces, front, elbow, p, a, R07, Td, K, hin
                                        gm if t_end < tm else g_end, p, a, front, elbow, K, th)
                         count = _gap_candidate(tr, p, a, front, elbow, R07, Td, K, hint, has_hint,
                                                out, count, filt, ws, mats)
-            elif fm < near:
+            if fm < near:  # (also when split: at a tangency the bottom itself is the root)
                 t = tm
-        if t >= 0.0:
+                have = True
+            if fm < 1e3 * near and npieces < SCAN_PIECES and t_hi - t_lo >= 1e-3 * (sub[1] - sub[0]):
+                # a dip that reaches (nearly) zero may hide more than one root: scan it again
+                # on a grid of its own
+                sub[2 * npieces] = t_lo
+                sub[2 * npieces + 1] = t_hi
+                npieces += 1
+        if have:
             count = _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count,
                                    filt, ws, mats)
     return count, npieces
@@ -670,7 +688,7 @@ def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
         npieces = 1
         j = 0
         while j < npieces:
-            count, npieces = _scan_piece(sub[2 * j], sub[2 * j + 1], j == 0, sub, npieces, 0.0, elbow,
+            count, npieces = _scan_piece(sub[2 * j], sub[2 * j + 1], sub, npieces, 0.0, elbow,
                                          p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
             j += 1
     return count
@@ -863,6 +881,21 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
             tb = 2.0 * math.asin(math.sqrt(min(1.0, max(0.0, (1.0 - ws[_BLO + k]) / sb2))))
             count = _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws,
                                  mats)
+    if K[L.DEVIATION] > 0.0:
+        # a model that deviates from the idealised one: near a singular wrist its exact solutions
+        # may come from nominal near-misses the polynomial decides as root-free or as one root
+        near0 = False
+        nearpi = False
+        for k in range(nr):
+            t5k = theta5_cs_of_d(roots[k], K)[0]
+            near0 = near0 or t5k < DEVIATING_ENDS
+            nearpi = nearpi or math.pi - t5k < DEVIATING_ENDS
+        if near0:
+            count = _scan_theta5(0.0, DEVIATING_ENDS, p, a, R07, Td, K, hint, has_hint, out, count,
+                                 filt, ws, mats)
+        if nearpi:
+            count = _scan_theta5(math.pi - DEVIATING_ENDS, math.pi, p, a, R07, Td, K, hint, has_hint,
+                                 out, count, filt, ws, mats)
     count = _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
     if folded:
         count = _merge_folded(out, count)
