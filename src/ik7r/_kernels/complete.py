@@ -65,7 +65,7 @@ SCAN_GRID = 32
 SCAN_PIECES = 12  # the grid and the pieces (next to branch ends, around dips) it may add
 #: The theta1 scan runs where the line of virtual centres passes this close (relative to the
 #: robot's size) to axis 1.
-SHOULDER_NEAR = 1e-2
+SHOULDER_NEAR = 1e-3
 #: Models that deviate from the idealised one: theta5 within this (rad) of 0 and pi is scanned
 #: when a root lies there.
 DEVIATING_ENDS = 2e-2
@@ -650,7 +650,7 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
             if fm < near:  # (also when split: at a tangency the bottom itself is the root)
                 t = tm
                 have = True
-            if fm < 1e3 * near and npieces < SCAN_PIECES and t_hi - t_lo >= 1e-3 * (sub[1] - sub[0]):
+            if fm < near and npieces < SCAN_PIECES and t_hi - t_lo >= 1e-2 * (sub[1] - sub[0]):
                 # a dip that reaches (nearly) zero may hide more than one root: scan it again
                 # on a grid of its own
                 sub[2 * npieces] = t_lo
