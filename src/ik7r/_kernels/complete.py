@@ -65,7 +65,7 @@ SCAN_GRID = 32
 SCAN_PIECES = 12  # the grid and the pieces (next to branch ends, around dips) it may add
 #: The theta1 scan runs where the line of virtual centres passes this close (relative to the
 #: robot's size) to axis 1.
-SHOULDER_NEAR = 1e-3
+SHOULDER_NEAR = 1e-5
 #: Models that deviate from the idealised one: theta5 within this (rad) of 0 and pi is scanned
 #: when a root lies there.
 DEVIATING_ENDS = 2e-2
