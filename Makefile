@@ -32,6 +32,7 @@ typecheck: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/run.py
+	$(BIN)/python benchmarks/edges.py
 	$(BIN)/python benchmarks/film.py
 
 lint: $(STAMP)

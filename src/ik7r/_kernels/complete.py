@@ -18,6 +18,7 @@ import math
 import numpy as np
 
 from . import params as L
+from .arm import arm_ik
 from .fk import dh_step_cs, fk_user, polish, residual, user_angle
 from .jit import njit
 from .poly import (
@@ -54,6 +55,22 @@ FILTER_MARGIN_DEVIATING = 0.1
 #: Window (rad) around theta5 = 0 and pi where solutions are tried at exactly 0 or pi first, and
 #: where nearly folded solutions merge into the folded one.
 FOLD_WINDOW = 1e-4
+#: Two exact solutions closer than this (rad, every joint) are one when the segment between
+#: them is exact too (see :func:`_add`).
+MERGE_WINDOW = 1e-2
+
+#: Grid of the theta5 scan of an undecided bracket (see :func:`_scan_theta5`), and how close to
+#: zero (rad) a local minimum of its bend gap must come to be a candidate (exact, deviating).
+SCAN_GRID = 32
+SCAN_PIECES = 12  # the grid and the pieces (next to branch ends, around dips) it may add
+#: The theta1 scan runs where the line of virtual centres passes this close (relative to the
+#: robot's size) to axis 1.
+SHOULDER_NEAR = 1e-5
+#: Models that deviate from the idealised one: theta5 within this (rad) of 0 and pi is scanned
+#: when a root lies there.
+DEVIATING_ENDS = 2e-2
+SCAN_NEAR = 1e-7
+SCAN_NEAR_DEVIATING = 1e-2
 
 #: Largest number of Bernstein coefficients, and of brackets.
 _NB = MAX_DEGREE + 1
@@ -74,13 +91,15 @@ def _offsets(**sizes):
 # pose: a view of a stack entry costs nothing, a reshape does); these are their indices.
 _T07, _R07, _M, _Q, _T, _WR, _PSI = range(7)
 _W, WORK_SIZE = _offsets(
-    MATS=7 * 16, P=3, A=3, TH=6, Q6=6, QQ=6,
+    MATS=7 * 16, P=3, A=3, TH=7, Q6=6, QQ=6,
     BLO=_NBRACKETS, BHI=_NBRACKETS, BSURE=_NBRACKETS, FOUND=REFINE_GRID + 2,
-    BCOEF=_NBRACKETS * _NB, CAST=_NB, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP,
+    BCOEF=_NBRACKETS * _NB, CAST=_NB, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP, NB=1,
+    SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES,
 )
 _MATS, _P, _A, _TH, _Q6, _QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"], _W["QQ"]
 _BLO, _BHI, _BSURE, _FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
 _BCOEF, _CAST, _ISO, _ROOTS = _W["BCOEF"], _W["CAST"], _W["ISO"], _W["ROOTS"]
+_NBK, _SCAN, _SUB = _W["NB"], _W["SCAN"], _W["SUB"]
 
 
 @njit
@@ -169,23 +188,42 @@ def _straight_split(q, Q, K, hint, has_hint):
 
 
 @njit
-def _add(q, out, count):
-    """Append ``q`` (wrapped) to ``out[:count]`` unless it is already there."""
+def _add(q, out, count, Td, K, mats):
+    """Append ``q`` (wrapped) to ``out[:count]`` unless it is already there: within DUP_TOL of
+    a solution in every joint, or within MERGE_WINDOW and joined to it by a segment that is
+    exact all along (:func:`_joined`): where the FK is flat (a
+    nearly singular arm and wrist at once) exact solutions come as clusters of shadows wider
+    than DUP_TOL, while two distinct solutions have an inexact pose between them."""
     for i in range(6):
         q[i] = wrap(q[i])
     for k in range(count):
-        same = True
+        far = 0.0
         for i in range(6):
-            if abs(wrap(out[k, i] - q[i])) > DUP_TOL:
-                same = False
-                break
-        if same:
+            far = max(far, abs(wrap(out[k, i] - q[i])))
+        if far <= DUP_TOL:
+            return count
+        if far < MERGE_WINDOW and count < out.shape[0] and _joined(out[k], q, out[count], Td, K, mats):
             return count
     if count < out.shape[0]:
         for i in range(6):
             out[count, i] = q[i]
         count += 1
     return count
+
+
+@njit
+def _joined(q0, q1, mid, Td, K, mats):
+    """Whether the segment from ``q0`` to ``q1`` is exact all along (checked at a quarter, half
+    and three quarters of the way; ``mid`` (6,): scratch)."""
+    T = mats[_T]
+    for f in (0.5, 0.25, 0.75):
+        for i in range(6):
+            mid[i] = q0[i] + f * wrap(q1[i] - q0[i])
+        fk_user(mid, K, T)
+        dp, dr = residual(T, Td)
+        if dp > K[L.POS_TOL] or dr > K[L.ROT_TOL]:
+            return False
+    return True
 
 
 @njit
@@ -213,7 +251,7 @@ def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
                 return count, False
         elif not polish(q, Td, K, 8):
             return count, False
-    return _add(q, out, count), True
+    return _add(q, out, count, Td, K, mats), True
 
 
 @njit
@@ -264,9 +302,10 @@ def _angle(th, i):
 
 
 @njit
-def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
-    """Complete DH theta1..3 with the wrist for offset ``d``; accept every exact solution
-    (with ``filt`` >= 0, only those that may have its indicators: see :func:`solve_config`)."""
+def _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Complete DH theta1..3 with the wrist bent by ``t5`` >= 0 (its cosine ``c5`` and sine
+    ``s5``); accept every exact solution (with ``filt`` >= 0, only those that may have its
+    indicators: see :func:`solve_config`)."""
     margin = _filter_margin(K)
     if filt >= 0:
         if not (_may_match(0, th[0], th[3], filt >> 2, margin, K)
@@ -280,7 +319,6 @@ def _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws, m
         dh_step_cs(M, K, L.NDH, L.TRIG + 14, i, th[i], th[3 + i])
     Q = mats[_Q, :3, :3]
     wrist_target(M[:3, :3], R07, K, Q)
-    t5, c5, s5 = theta5_cs_of_d(d, K)
     q = ws[_Q6:_Q6 + 6]
     qq = ws[_QQ:_QQ + 6]  # q completed with a wrist solution
     for i in range(3):
@@ -353,6 +391,7 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
     scale = K[L.SCALE]
     psi = mats[_PSI]
     th = ws[_TH:_TH + 6]
+    t5, c5, s5 = theta5_cs_of_d(d, K)
     if r2 <= (1e-9 * scale) ** 2 and b == 0.0:
         # P' on axis 1 (shoulder singularity): psi from the elbow condition alone, theta1 from
         # the bend condition u . a = eps3 (sin psi (c1 ax + s1 ay) - eps1 cos psi az)
@@ -366,7 +405,7 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
             sp = psi[k, 1]
             if abs(sp) * axy < 1e-12:
                 _arm_from_psi(d, 0.0, cp, sp, pz, math.cos(t1h), math.sin(t1h), K, th)
-                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws,
+                count = _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, filt, ws,
                                           mats)
                 continue
             target = (cphi * K[L.EPS3] + K[L.EPS1] * cp * a[2]) / (sp * axy)
@@ -377,7 +416,7 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
             for sg in (1.0, -1.0):
                 t1 = base + sg * dev
                 _arm_from_psi(d, 0.0, cp, sp, pz, math.cos(t1), math.sin(t1), K, th)
-                count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws,
+                count = _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, filt, ws,
                                           mats)
         return count
     s2 = r2 - b * b
@@ -400,10 +439,270 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
         n = _psi_candidates(a11, a12, m, a21, a22, c, psi, 1e-4 if K[L.DEVIATION] == 0.0 else 2e-2)
         for k in range(n):
             _arm_from_psi(d, rho, psi[k, 0], psi[k, 1], pz, c1, s1, K, th)
-            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws,
+            count = _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, filt, ws,
                                       mats)
         if s == 0.0:
             break
+    return count
+
+
+@njit
+def _bend_gap(t5, p, a, front, elbow, K, th, t1_hint=0.0, in_plane=False):
+    """The bend gap at wrist angle ``t5`` >= 0 on the arm branch (``front``, ``elbow``: +-1):
+    the angle between axis 4 of the arm that places the virtual centre of that bend and the
+    tool's approach ``a``, minus the wrist's bend ``phi(t5)``; zero exactly at solutions.
+    Unlike the residual polynomial it is computed from t5 itself, with angles from atan2: it
+    stays accurate (to rounding of the angles) where d is flat in t5 (straight or fully bent
+    wrist) and where two roots of the polynomial merge within its rounding. Writes the arm's
+    DH cosines and sines into ``th`` (as :func:`_arm_from_psi`). Returns (gap, ok); ok is False
+    where the branch does not reach. ``t1_hint``: theta1 when the virtual centre is on axis 1;
+    ``th[6]`` gets t5. ``in_plane``: theta1 is ``t1_hint`` (the virtual centre is taken in
+    that arm plane: near axis 1 its direction from the axis is rounding noise)."""
+    x = K[L.SB] * math.sin(0.5 * t5)
+    h = 1.0 - 2.0 * x * x  # cos(phi / 2)
+    if h < 1e-9:
+        return 0.0, False  # the fold of a 45 deg twist: the virtual centre is at infinity
+    d = K[L.KW] / h
+    t = K[L.D7] + d
+    px = p[0] - t * a[0]
+    py = p[1] - t * a[1]
+    if in_plane:
+        ch, sh = math.cos(t1_hint), math.sin(t1_hint)
+        rho = ch * px + sh * py
+        px, py = rho * ch, rho * sh
+    t1, t2, t3, ok = arm_ik(px, py, p[2] - t * a[2], K[L.D4] + d, front, elbow, t1_hint, K)
+    if not ok:
+        return 0.0, False
+    c1, s1 = math.cos(t1), math.sin(t1)
+    c2, s2 = math.cos(t2), math.sin(t2)
+    c3, s3 = math.cos(t3), math.sin(t3)
+    th[0], th[1], th[2], th[3], th[4], th[5], th[6] = c1, c2, c3, s1, s2, s3, t5
+    cp = c2 * c3 - s2 * s3  # psi = theta2 + theta3
+    sp = s2 * c3 + c2 * s3
+    e3 = K[L.EPS3]
+    zx = e3 * c1 * sp  # axis 4 (frame 0)
+    zy = e3 * s1 * sp
+    zz = -K[L.EPS1] * e3 * cp
+    cx = zy * a[2] - zz * a[1]
+    cy = zz * a[0] - zx * a[2]
+    cz = zx * a[1] - zy * a[0]
+    gamma = math.atan2(math.sqrt(cx * cx + cy * cy + cz * cz), zx * a[0] + zy * a[1] + zz * a[2])
+    return gamma - 4.0 * math.asin(x), True
+
+
+@njit
+def _shoulder_gap(t1, p, a, elbow, K, th):
+    """The bend gap as a function of theta1 (DH) on the elbow branch ``elbow`` (+-1), for a robot
+    without lateral offset: the virtual centre is where the line ``p - t a`` meets the arm's
+    plane at theta1, which fixes d and so theta5. Near the shoulder singular set (that line
+    passes close to axis 1) theta1 swings fast with d, and the residual polynomial's roots
+    there merge within its rounding; in theta1 they stay apart. Returns (gap, ok)."""
+    c1 = math.cos(t1)
+    s1 = math.sin(t1)
+    an = -s1 * a[0] + c1 * a[1]
+    if abs(an) < 1e-12:
+        return 0.0, False
+    d = (-s1 * p[0] + c1 * p[1]) / an - K[L.D7]
+    if not (K[L.DMIN] <= d <= K[L.DMAX]):
+        if K[L.DEVIATION] == 0.0 or not (0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]):
+            return 0.0, False
+        d = min(K[L.DMAX], max(K[L.DMIN], d))
+    t5 = theta5_cs_of_d(d, K)[0]
+    t = K[L.D7] + d
+    rho = c1 * (p[0] - t * a[0]) + s1 * (p[1] - t * a[1])
+    return _bend_gap(t5, p, a, 1.0 if rho >= 0.0 else -1.0, elbow, K, th, t1, True)
+
+
+@njit
+def _gap(t, p, a, front, elbow, K, th):
+    """The bend gap of :func:`_bend_gap` at theta5 = ``t`` on the branch (front, elbow), or with
+    ``front`` 0 that of :func:`_shoulder_gap` at theta1 = ``t`` on the elbow branch."""
+    if front != 0.0:
+        return _bend_gap(t, p, a, front, elbow, K, th)
+    return _shoulder_gap(t, p, a, elbow, K, th)
+
+
+@njit
+def _gap_root(t0, t1, g0, g1, p, a, front, elbow, K, th):
+    """The root of the bend gap bracketed by [t0, t1] (``g0``, ``g1`` of opposite signs):
+    Illinois, to the last bits."""
+    side = 0
+    for _ in range(100):
+        t = (t0 * g1 - t1 * g0) / (g1 - g0)
+        if not (min(t0, t1) < t < max(t0, t1)):
+            t = 0.5 * (t0 + t1)
+        g, ok = _gap(t, p, a, front, elbow, K, th)
+        if not ok or g == 0.0:
+            return t
+        if (g > 0.0) == (g1 > 0.0):
+            t1, g1 = t, g
+            if side == -1:
+                g0 *= 0.5
+            side = -1
+        else:
+            t0, g0 = t, g
+            if side == 1:
+                g1 *= 0.5
+            side = 1
+        if abs(t1 - t0) <= 4e-16 * max(abs(t0), abs(t1)) + 1e-300:
+            break
+    return t0 if abs(g0) < abs(g1) else t1
+
+
+@njit
+def _gap_min(t0, t1, p, a, front, elbow, K, th):
+    """The least |bend gap| in [t0, t1] (golden section); (t, |gap|)."""
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    for _ in range(50):
+        x1 = t1 - g * (t1 - t0)
+        x2 = t0 + g * (t1 - t0)
+        f1, ok1 = _gap(x1, p, a, front, elbow, K, th)
+        f2, ok2 = _gap(x2, p, a, front, elbow, K, th)
+        if ok1 and (not ok2 or abs(f1) < abs(f2)):
+            t1 = x2
+        else:
+            t0 = x1
+    t = 0.5 * (t0 + t1)
+    f, ok = _gap(t, p, a, front, elbow, K, th)
+    return t, abs(f) if ok else np.inf
+
+
+@njit
+def _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Every solution with theta5 in [ta, tb] (an interval the residual polynomial left
+    undecided: its values there are within their rounding of zero), from the bend gap of each
+    of the four arm branches (:func:`_bend_gap`) on a grid: sign changes refined to the last
+    bits, dips of |gap| (tangential roots, or two roots in one cell) refined by golden section
+    and split at the dip. Where a branch ends inside a cell (the elbow stretches) the end is
+    found by bisection and the piece between it and the grid is scanned on a grid of its own.
+    Each candidate is completed with the wrist and verified on the forward kinematics."""
+    sub = ws[_SUB:_SUB + 2 * SCAN_PIECES]
+    for front in (1.0, -1.0):
+        for elbow in (1.0, -1.0):
+            sub[0] = ta
+            sub[1] = tb
+            npieces = 1
+            j = 0
+            while j < npieces:
+                t0 = sub[2 * j]
+                t1 = sub[2 * j + 1]
+                count, npieces = _scan_piece(t0, t1, sub, npieces, front, elbow, p, a, R07,
+                                             Td, K, hint, has_hint, out, count, filt, ws, mats)
+                j += 1
+    return count
+
+
+@njit
+def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_hint, out,
+                count, filt, ws, mats):
+    """One grid of :func:`_scan_theta5` over [ta, tb] on one arm branch; the pieces next to
+    branch ends and around dips it finds are appended to ``sub`` (while there is room: a piece
+    is two cells of the one that found it, so they nest). Returns (count, npieces)."""
+    m = SCAN_GRID
+    gs = ws[_SCAN:_SCAN + m + 1]
+    th = ws[_TH:_TH + 7]
+    near = SCAN_NEAR if K[L.DEVIATION] == 0.0 else SCAN_NEAR_DEVIATING
+    for i in range(m + 1):
+        g, ok = _gap(ta + (tb - ta) * i / m, p, a, front, elbow, K, th)
+        gs[i] = g if ok else np.nan
+    for i in range(m + 1):
+        gi = gs[i]
+        ti = ta + (tb - ta) * i / m
+        if i < m and math.isfinite(gi) != math.isfinite(gs[i + 1]) and npieces < SCAN_PIECES:
+            # the branch ends in this cell: bisect for the end, then scan the defined part
+            t_in = ti if math.isfinite(gi) else ta + (tb - ta) * (i + 1) / m
+            t_out = ta + (tb - ta) * (i + 1) / m if math.isfinite(gi) else ti
+            for _ in range(60):
+                tm = 0.5 * (t_in + t_out)
+                if tm == t_in or tm == t_out:
+                    break
+                if _gap(tm, p, a, front, elbow, K, th)[1]:
+                    t_in = tm
+                else:
+                    t_out = tm
+            edge = ti if math.isfinite(gi) else ta + (tb - ta) * (i + 1) / m
+            sub[2 * npieces] = min(t_in, edge)
+            sub[2 * npieces + 1] = max(t_in, edge)
+            npieces += 1
+        if not math.isfinite(gi):
+            continue
+        t = ti
+        have = gi == 0.0  # (theta1 may be negative: a flag, not a sentinel value)
+        if not have and i < m and math.isfinite(gs[i + 1]) and gi * gs[i + 1] < 0.0:
+            t = _gap_root(ti, ta + (tb - ta) * (i + 1) / m, gi, gs[i + 1], p, a, front, elbow, K, th)
+            have = True
+        elif (not have and (i == 0 or not math.isfinite(gs[i - 1]) or abs(gi) <= abs(gs[i - 1]))
+              and (i == m or not math.isfinite(gs[i + 1]) or abs(gi) <= abs(gs[i + 1]))):
+            # a dip of |gap|: a tangential root, or two roots within one grid cell
+            lo_i = max(0, i - 1)
+            hi_i = min(m, i + 1)
+            t_lo = ta + (tb - ta) * lo_i / m
+            t_hi = ta + (tb - ta) * hi_i / m
+            tm, fm = _gap_min(t_lo, t_hi, p, a, front, elbow, K, th)
+            gm, okm = _gap(tm, p, a, front, elbow, K, th)
+            if okm and gm * gi < 0.0:
+                for t_end, g_end in ((t_lo, gs[lo_i]), (t_hi, gs[hi_i])):
+                    if math.isfinite(g_end) and g_end * gm < 0.0:
+                        tr = _gap_root(min(t_end, tm), max(t_end, tm), g_end if t_end < tm else gm,
+                                       gm if t_end < tm else g_end, p, a, front, elbow, K, th)
+                        count = _gap_candidate(tr, p, a, front, elbow, R07, Td, K, hint, has_hint,
+                                               out, count, filt, ws, mats)
+            if fm < near:  # (also when split: at a tangency the bottom itself is the root)
+                t = tm
+                have = True
+            if fm < near and npieces < SCAN_PIECES and t_hi - t_lo >= 1e-2 * (sub[1] - sub[0]):
+                # a dip that reaches (nearly) zero may hide more than one root: scan it again
+                # on a grid of its own
+                sub[2 * npieces] = t_lo
+                sub[2 * npieces + 1] = t_hi
+                npieces += 1
+        if have:
+            count = _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count,
+                                   filt, ws, mats)
+    return count, npieces
+
+
+@njit
+def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Near the shoulder singular set (no lateral offset; the line of virtual centres
+    ``p - t a`` passes within SHOULDER_NEAR of the robot's size from axis 1, at a d in range):
+    every solution from the bend gap in theta1 (:func:`_shoulder_gap`) on a grid over the whole
+    turn, both elbow branches."""
+    if K[L.B] != 0.0:
+        return count
+    axy2 = a[0] * a[0] + a[1] * a[1]
+    if axy2 < 1e-24:
+        return count  # a along axis 1: P' is at one distance from it for every d
+    t = (p[0] * a[0] + p[1] * a[1]) / axy2
+    rx = p[0] - t * a[0]
+    ry = p[1] - t * a[1]
+    if rx * rx + ry * ry > (SHOULDER_NEAR * K[L.SCALE]) ** 2:
+        return count
+    d = t - K[L.D7]
+    if not (0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]):
+        return count
+    sub = ws[_SUB:_SUB + 2 * SCAN_PIECES]
+    for elbow in (1.0, -1.0):
+        sub[0] = -math.pi
+        sub[1] = math.pi
+        npieces = 1
+        j = 0
+        while j < npieces:
+            count, npieces = _scan_piece(sub[2 * j], sub[2 * j + 1], sub, npieces, 0.0, elbow,
+                                         p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+            j += 1
+    return count
+
+
+@njit
+def _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Complete the arm branch's root ``t`` of the bend gap with the wrist; accept what is exact."""
+    th = ws[_TH:_TH + 7]
+    _, ok = _gap(t, p, a, front, elbow, K, th)  # the arm of the root, into th; theta5 th[6]
+    if ok:
+        t5 = th[6]
+        count = _wrist_and_accept(th, t5, math.cos(t5), math.sin(t5), R07, Td, K, hint, has_hint,
+                                  out, count, filt, ws, mats)
     return count
 
 
@@ -420,6 +719,7 @@ def _roots(kind, p, a, K, Bm, bnorm, roots, ws):
     bcoef = ws[_BCOEF:_BCOEF + _NBRACKETS * nc].reshape((_NBRACKETS, nc))
     nb = isolate(kind, lo, hi, p, a, K, Bm, bnorm, blo, bhi, bsure, bcoef,
                  ws[_ISO:_ISO + ISOLATE_WORK])
+    ws[_NBK] = max(nb, 0)
     if nb < 0:
         return -1
     count = 0
@@ -483,12 +783,13 @@ def _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt, ws
     th = ws[_TH:_TH + 6]
     for k in range(max(nr, 0)):
         d = roots[k]
+        t5, c5, s5 = theta5_cs_of_d(d, K)
         pz = p[2] - (K[L.D7] + d) * a[2]
         a11, a12, m, a21, a22, c = linear_system(d, 0.0, p, a, K)
         a21, a22, c = bend_row_on_axis(d, a, K)
         for k2 in range(_psi_candidates(a11, a12, m, a21, a22, c, psi)):
             _arm_from_psi(d, 0.0, psi[k2, 0], psi[k2, 1], pz, c1, s1, K, th)
-            count = _wrist_and_accept(th, d, R07, Td, K, hint, has_hint, out, count, filt, ws,
+            count = _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, filt, ws,
                                       mats)
     return count
 
@@ -571,6 +872,31 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
             count = _solutions_at(K[L.DMAX], p, a, R07, Td, K, hint, has_hint, out, count, filt,
                                   ws, mats)
         count = _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+    # brackets the polynomial left undecided (clusters of roots within its rounding): scan
+    # them in theta5 with the bend gap, which resolves what the polynomial cannot
+    sb2 = 2.0 * K[L.SB] * K[L.SB]
+    for k in range(int(ws[_NBK])):
+        if ws[_BSURE + k] == 0.0:
+            ta = 2.0 * math.asin(math.sqrt(min(1.0, max(0.0, (1.0 - ws[_BHI + k]) / sb2))))
+            tb = 2.0 * math.asin(math.sqrt(min(1.0, max(0.0, (1.0 - ws[_BLO + k]) / sb2))))
+            count = _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws,
+                                 mats)
+    if K[L.DEVIATION] > 0.0:
+        # a model that deviates from the idealised one: near a singular wrist its exact solutions
+        # may come from nominal near-misses the polynomial decides as root-free or as one root
+        near0 = False
+        nearpi = False
+        for k in range(nr):
+            t5k = theta5_cs_of_d(roots[k], K)[0]
+            near0 = near0 or t5k < DEVIATING_ENDS
+            nearpi = nearpi or math.pi - t5k < DEVIATING_ENDS
+        if near0:
+            count = _scan_theta5(0.0, DEVIATING_ENDS, p, a, R07, Td, K, hint, has_hint, out, count,
+                                 filt, ws, mats)
+        if nearpi:
+            count = _scan_theta5(math.pi - DEVIATING_ENDS, math.pi, p, a, R07, Td, K, hint, has_hint,
+                                 out, count, filt, ws, mats)
+    count = _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
     if folded:
         count = _merge_folded(out, count)
     return count

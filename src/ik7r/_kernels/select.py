@@ -15,19 +15,30 @@ from .validate import validate_pose
 
 HALF_PI = 0.5 * math.pi
 SINGULAR_WRIST = 1e-9  # |q5| (or |q5| - pi) below this: both Wrist indicators name the pose
+#: q1 or q3 within this (rad) of an indicator boundary (+-pi/2): both indicators name the
+#: solution. It is the rounding of the solve where a boundary is singular (the stretched elbow of
+#: a robot without elbow offset: the FK is flat there, a joint error e moves the tool by about
+#: reach * e^2, 1e-9 of it for e = 1e-6 ... and two elbow solutions merge into one).
+BOUNDARY_TOL = 1e-6
+
+
+@njit
+def _side(x, want):
+    """Whether the wrapped angle ``x`` may have the indicator ``want`` (1: in [-pi/2, pi/2)):
+    True for either indicator within BOUNDARY_TOL of +-pi/2."""
+    if abs(abs(x) - HALF_PI) <= BOUNDARY_TOL:
+        return True
+    return (1 if -HALF_PI <= x < HALF_PI else 0) == want
 
 
 @njit
 def matches(q, arm, elbow, wrist):
-    """True when ``q`` has the indicators (arm, elbow, wrist); a straight (q5 = 0) or fully
-    bent (q5 = pi) wrist matches both Wrist values (its two wrist solutions are one)."""
-    q1 = wrap(q[0])
-    q3 = wrap(q[2])
-    q5 = wrap(q[4])
-    a = 1 if -HALF_PI <= q1 < HALF_PI else 0
-    e = 1 if -HALF_PI <= q3 < HALF_PI else 0
-    if a != arm or e != elbow:
+    """True when ``q`` has the indicators (arm, elbow, wrist). A solution on a boundary between
+    configurations belongs to both: q1 or q3 within BOUNDARY_TOL of +-pi/2, a straight
+    (q5 = 0) or fully bent (q5 = pi) wrist (its two wrist solutions are one)."""
+    if not (_side(wrap(q[0]), arm) and _side(wrap(q[2]), elbow)):
         return False
+    q5 = wrap(q[4])
     if abs(q5) < SINGULAR_WRIST or math.pi - abs(q5) < SINGULAR_WRIST:
         return True
     w = 1 if 0.0 <= q5 < math.pi else 0

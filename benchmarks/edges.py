@@ -1,0 +1,96 @@
+"""Speed of ``ik_all`` per robot over random and singular-set poses (issue 12, item 8).
+
+Public API only. For each robot: poses from uniform joints, and poses on the singular sets
+(straight wrist q5 = 0 and within 1e-9 .. 1e-3 of it, fully bent wrist near q5 = 180 deg,
+stretched elbow, virtual wrist centre near axis 1 for robots without lateral offset). Prints
+median, 99th percentile and worst time per call of ``robot.ik_all(T)`` and how many source
+joint vectors were not among the answers. Run: ``python benchmarks/edges.py [N]``.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+
+import numpy as np
+
+import ik7r
+from ik7r.robot import Robot
+
+
+def _wrap(x):
+    return np.pi - np.mod(np.pi - np.asarray(x), 2 * np.pi)
+
+
+def _generated(beta_deg: float, a1: float, a3: float, name: str) -> Robot:
+    """A family member with offsets (mm), exact (not deviating)."""
+    b = math.radians(beta_deg)
+    dh = np.array([[0, 0, 400, 0], [a1, math.pi / 2, 0, 0], [1100, 0, 0, 0], [a3, math.pi / 2, 1200, 0],
+                   [0, -b, 90, 0], [0, 2 * b, 90, 0], [0, -b, 110, 0]], float)
+    return Robot(name=name, dh=dh)
+
+
+def _rounded(robot: Robot, name: str) -> Robot:
+    """``robot`` with its wrist rounded like a published model (d5 != d6 by 0.1 mm, twists 1e-4 rad)."""
+    dh = np.array(robot.dh)
+    dh[5, 2] += 0.1
+    dh[5, 1] -= 1e-4
+    return robot.replace(dh=dh, name=name)
+
+
+def _singular_poses(robot: Robot, rng, n: int) -> np.ndarray:
+    Q = rng.uniform(-np.pi, np.pi, (n, 6))
+    k = n // 4
+    Q[:k, 4] = 0.0
+    Q[k:2 * k, 4] = rng.choice([-1, 1], k) * 10.0 ** rng.uniform(-9, -3, k)
+    Q[2 * k:3 * k, 4] = np.pi - 10.0 ** rng.uniform(-9, -3, k)
+    Q[3 * k:, 2] = rng.choice([-1, 1], n - 3 * k) * (np.pi / 2 - 10.0 ** rng.uniform(-9, -3, n - 3 * k))
+    return _wrap(Q)
+
+
+def _found(robot: Robot, sols: np.ndarray, q: np.ndarray) -> bool:
+    if len(sols) == 0:
+        return False
+    if np.abs(_wrap(sols - q)).max(axis=1).min() < 1e-6:
+        return True
+    if abs(_wrap(q[4])) < 1e-3:
+        s4, s7 = robot.joint_sign[3], robot.joint_sign[6]
+        rest = np.abs(_wrap(sols[:, [0, 1, 2, 4]] - q[[0, 1, 2, 4]])).max(axis=1)
+        tot = np.abs(_wrap(s4 * sols[:, 3] + s7 * sols[:, 5] - s4 * q[3] - s7 * q[5]))
+        return bool(np.maximum(rest, tot).min() < 1e-6)
+    return False
+
+
+def _time(robot: Robot, Q: np.ndarray) -> tuple[np.ndarray, int]:
+    T = robot.fk(Q)
+    robot.ik_all(T[0])  # compiled before timing
+    times = np.empty(len(Q))
+    missed = 0
+    for i in range(len(Q)):
+        t0 = time.perf_counter()
+        sols = robot.ik_all(T[i])
+        times[i] = time.perf_counter() - t0
+        missed += not _found(robot, sols, Q[i])
+    return times, missed
+
+
+def main(argv: list[str]) -> int:
+    n = int(argv[0]) if argv else 2000
+    rng = np.random.default_rng(12)
+    paper = ik7r.load_robot()
+    robots = [paper, ik7r.load_robot("irb5400"), _generated(35, 250, 150, "offsets_b35"),
+              _generated(45, 250, 150, "offsets_b45"), _rounded(_generated(35, 250, 150, "x"), "rounded_b35")]
+    print(f"ik_all per call, {n} poses per row (us); missed = sources not among the answers")
+    print(f"{'robot':14s} {'poses':9s} {'median':>8s} {'p99':>8s} {'max':>9s} {'missed':>7s}")
+    for robot in robots:
+        for kind in ("random", "singular"):
+            Q = rng.uniform(-np.pi, np.pi, (n, 6)) if kind == "random" else _singular_poses(robot, rng, n)
+            t, missed = _time(robot, Q)
+            print(f"{robot.name:14s} {kind:9s} {1e6 * np.median(t):8.1f} {1e6 * np.percentile(t, 99):8.1f} "
+                  f"{1e6 * t.max():9.1f} {missed:7d}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
