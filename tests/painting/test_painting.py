@@ -229,15 +229,25 @@ def test_rows_are_derivatives_of_each_other(paper_result, rng):
     assert np.all(np.abs(tr.ddq) <= paper_result.robot.acceleration)
 
 
-def test_scalar_config_number_matches_robot(robot, rng):
-    from ik7r.painting.trajectory import _config_number
+def test_painting_keeps_configurations_by_the_solvers_rule(robot, rng):
+    """A painting path keeps its configuration by the rule the solver states: the configuration
+    number of the paper's Appendix 3, and a solution on a boundary belongs to both sides."""
+    from ik7r.painting.trajectory import _matches
 
-    Q = rng.uniform(-2 * np.pi, 2 * np.pi, (500, 6))
-    Q[:20, 4] = 0.0
-    Q[20:40, 0] = -np.pi / 2
-    expect = robot.config_of(Q)
-    got = np.array([_config_number(robot, q) for q in Q])
-    np.testing.assert_array_equal(got, expect)
+    Q = rng.uniform(-2 * np.pi, 2 * np.pi, (300, 6))
+    Q[:20, 4] = 0.0  # straight wrist: both wrist indicators
+    Q[20:40, 0] = np.pi / 2 + rng.uniform(-5e-7, 5e-7, 20)  # q1 on the arm boundary: both arms
+    Q[40:60, 2] = -np.pi / 2 + rng.uniform(-5e-7, 5e-7, 20)  # q3 on the elbow boundary: both elbows
+    cfg = robot.config_of(Q)
+    for i, q in enumerate(Q):
+        same = {int(cfg[i])}
+        if i < 20:
+            same.add(int(cfg[i]) + (1 if cfg[i] % 2 else -1))
+        elif i < 40:
+            same.add(int(cfg[i]) + (4 if cfg[i] <= 4 else -4))
+        elif i < 60:
+            same.add(int(cfg[i]) + (2 if (cfg[i] - 1) % 4 < 2 else -2))
+        assert [c for c in range(1, 9) if _matches(q, c)] == sorted(same), (i, q)
 
 
 def test_timing_is_rest_to_rest_and_invertible():

@@ -38,7 +38,7 @@ import numpy as np
 
 from ..errors import UnreachableError
 from ..geometry.checks import check_config, check_joints
-from ..geometry.configs import config_of_indicators
+from ..geometry.configs import config_number, config_of_indicators
 from ..geometry.rotations import wrap_angle
 from .events import (
     JOINT_LABELS,
@@ -119,26 +119,17 @@ def _pose_at(robot, path: Path, u: float) -> np.ndarray:
     return _world(robot, T)
 
 
-def _wrap1(x: float) -> float:
-    return math.pi - (math.pi - x) % (2 * math.pi)
+def _config_number(q) -> int:
+    """Configuration number of one joint vector (the paper's Appendix 3)."""
+    return int(config_number(q))
 
 
-def _config_number(robot, q) -> int:
-    """Configuration number of one joint vector (the paper's Appendix 3; fast scalar form of
-    :meth:`Robot.config_of`, which the tests compare it with)."""
-    q1, q3, q5 = _wrap1(float(q[0])), _wrap1(float(q[2])), _wrap1(float(q[4]))
-    arm = -math.pi / 2 <= q1 < math.pi / 2
-    elbow = -math.pi / 2 <= q3 < math.pi / 2
-    wrist = 0.0 <= q5 < math.pi
-    return 1 + 4 * (not arm) + 2 * (not elbow) + (not wrist)
+def _matches(q, cfg: int) -> bool:
+    """``q`` is in configuration ``cfg``, by the solver's own rule (:func:`ik7r._kernels.matches`):
+    a solution on a boundary between configurations belongs to both."""
+    from .._kernels import matches  # here: importing a kernel imports numba
 
-
-def _matches(robot, q, cfg: int) -> bool:
-    """``q`` is in configuration ``cfg``; a straight or fully bent wrist (theta5 = 0 or pi) is
-    in both wrist configurations."""
-    if _config_number(robot, q) == cfg:
-        return True
-    return bool(_wrist_distance(q[4]) < 1e-9) and (_config_number(robot, q) - 1) // 2 == (cfg - 1) // 2
+    return bool(matches(np.ascontiguousarray(q, dtype=float), *check_config(cfg)))
 
 
 def _wrist_distance(q5) -> np.ndarray:
@@ -399,7 +390,7 @@ def solve_path(robot: Robot, path: Path, config: Config = 1, seed: ArrayLike | N
                                T_to=T_all[i])
             chosen = None
             if cont is not None:
-                c_prev, c_new = _config_number(robot, prev), _config_number(robot, cont)
+                c_prev, c_new = _config_number(prev), _config_number(cont)
                 if c_new != c_prev:
                     ind_prev, ind_new = robot.indicators(prev), robot.indicators(cont)
                     if ind_prev[2] != ind_new[2] and np.array_equal(ind_prev[:2], ind_new[:2]):
@@ -408,7 +399,7 @@ def solve_path(robot: Robot, path: Path, config: Config = 1, seed: ArrayLike | N
                                                         c_prev, c_new, pos(i), unit)))
                     else:
                         tagged.append((i, ConfigChange(i, c_prev, c_new, pos(i), unit)))
-                if keep == "branch" or _matches(robot, cont, cfg):
+                if keep == "branch" or _matches(cont, cfg):
                     chosen = cont
                 else:
                     reason = (f"the continuous solution leaves configuration {cfg} (to {c_new}); "
