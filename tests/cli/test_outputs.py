@@ -286,9 +286,13 @@ def test_failed_paint_mesh_run_leaves_nothing_that_looks_complete(tmp_path, monk
         raise OSError(errno.ENOSPC, "No space left on device")
 
     monkeypatch.setattr(W, "write_thickness_csv", full)
-    code, _, err = run_cli("paint", "mesh", "panel", "--no-plots", "--out", out)
+    code, _, err = run_cli("paint", "mesh", "panel", "--speed", "200", "--no-plots", "--out", out)
     assert code == 2 and "no space left" in err and len(err.splitlines()) == 1
     assert _tree(out) == []  # old reports removed, nothing new, nothing hidden
+    (out / "thickness.csv").write_text("old")
+    code, _, err = run_cli("paint", "mesh", "panel", "--speed", "5000", "--no-plots", "--out", out)
+    assert code == 1 and "report" in err
+    assert _tree(out) == ["report.txt"]  # an infeasible run: its report alone
 
 
 def test_gun_fit_writes_atomically(tmp_path):

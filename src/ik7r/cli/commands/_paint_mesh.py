@@ -110,7 +110,11 @@ def run_mesh(args) -> int:
             slow_down=args.slow_down, kind=args.spline, tolerance=args.tolerance, rate=args.rate,
             occlusion=not args.no_occlusion, progress=True)
     except P.PathNotFeasible as exc:
-        raise NoSolution(str(exc)) from exc
+        # the report of the failure only (an older run's outputs are removed): nothing that
+        # looks like a program
+        with OutputDir(args.out, manifest=("report.json", "report.txt"), owned=MESH_FILES) as stage:
+            (stage.path / "report.txt").write_text(f"part: {args.part}\n{exc}\n", encoding="utf-8")
+        raise NoSolution(f"{exc} (report: {stage.target / 'report.txt'})") from exc
     except (FileNotFoundError, ValueError) as exc:
         raise CliError(str(exc)) from exc
     # every file through the stager: published when all are complete, the reports last
