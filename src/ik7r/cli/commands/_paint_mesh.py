@@ -114,7 +114,7 @@ def run_mesh(args) -> int:
         # looks like a program
         with OutputDir(args.out, manifest=("report.json", "report.txt"), owned=MESH_FILES) as stage:
             (stage.path / "report.txt").write_text(f"part: {args.part}\n{exc}\n", encoding="utf-8")
-        raise NoSolution(f"{exc} (report: {stage.target / 'report.txt'})") from exc
+        raise NoSolution(f"(report in {stage.target / 'report.txt'}) {exc}") from exc
     except (FileNotFoundError, ValueError) as exc:
         raise CliError(str(exc)) from exc
     # every file through the stager: published when all are complete, the reports last

@@ -206,7 +206,7 @@ def run(args) -> int:
             (out / "report.txt").write_text(f"path: {path.name}; {len(path)} samples\n{exc}\n",
                                             encoding="utf-8")
             stage.publish()
-            raise NoSolution(f"{exc} (report: {stage.target / 'report.txt'})") from exc
+            raise NoSolution(f"(report in {stage.target / 'report.txt'}) {exc}") from exc
         except ValueError as exc:
             raise CliError(str(exc)) from exc
         written = [P.write_trajectory_csv(result.robot, result.trajectory, out / "trajectory.csv")]
