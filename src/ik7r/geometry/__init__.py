@@ -32,6 +32,7 @@ _EXPORTS = {
     "transforms_status": "checks",
     "poses_status": "checks",
     "reduce_seeds": "checks",
+    "project_transforms": "checks",
 }
 
 if TYPE_CHECKING:  # the names, for type checkers and IDEs
@@ -42,6 +43,7 @@ if TYPE_CHECKING:  # the names, for type checkers and IDEs
         check_joints,
         check_transforms,
         poses_status,
+        project_transforms,
         reduce_seeds,
         transforms_status,
     )
@@ -78,6 +80,7 @@ __all__ = [
     "nearest_rotation",
     "reduce_seeds",
     "poses_status",
+    "project_transforms",
     "quat_to_matrix",
     "rot_x",
     "rot_z",

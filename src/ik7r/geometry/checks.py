@@ -16,6 +16,7 @@ __all__ = [
     "reduce_seeds",
     "transforms_status",
     "poses_status",
+    "project_transforms",
 ]
 
 #: Largest entry of ``|R^T R - I|`` (and of ``|bottom row - [0, 0, 0, 1]|``) accepted in a pose.
@@ -24,18 +25,46 @@ __all__ = [
 ORTHONORMAL_TOL = 1e-6
 
 
+def _short(x) -> str:
+    text = repr(x)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
 def check_finite(x: np.ndarray, name: str) -> None:
     """Raise ``ValueError`` if ``x`` holds NaN or infinity."""
     if not np.all(np.isfinite(x)):
         raise ValueError(f"{name} must be finite; got NaN or infinity")
 
 
+def _real_array(x, name: str, shape: str) -> np.ndarray:
+    """``x`` as a float array; complex numbers (even with zero imaginary parts) are refused
+    with a ``ValueError`` instead of being cut to their real part (numpy's ComplexWarning)."""
+    if isinstance(x, complex) or getattr(getattr(x, "dtype", None), "kind", None) == "c":
+        raise ValueError(f"{name} must be real numbers of shape {shape}; got complex numbers")
+    try:
+        return np.asarray(x, dtype=float)
+    except TypeError as exc:
+        if "complex" in str(exc):
+            raise ValueError(f"{name} must be real numbers of shape {shape}; got complex numbers") from None
+        raise
+    except ValueError:
+        if isinstance(x, (list, tuple)) and np.asarray(x, dtype=object).size and any(
+                isinstance(v, complex) for v in np.asarray(x, dtype=object).reshape(-1)):
+            raise ValueError(f"{name} must be real numbers of shape {shape}; got complex numbers") from None
+        raise
+
+
 def check_joints(q: ArrayLike, name: str = "q", ndof: int = 6) -> np.ndarray:
     """``q`` as a float array of shape ``(..., ndof)``, finite (radians)."""
+    if type(q) is np.ndarray and q.dtype == np.float64 and q.ndim and q.shape[-1] == ndof:
+        check_finite(q, name)  # the common case, fast
+        return q
     try:
-        arr = np.asarray(q, dtype=float)
+        arr = _real_array(q, name, f"(..., {ndof})")
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be numbers of shape (..., {ndof}); got {q!r}") from exc
+        if "complex" in str(exc):
+            raise
+        raise ValueError(f"{name} must be numbers of shape (..., {ndof}); got {_short(q)}") from exc
     if arr.ndim == 0 or arr.shape[-1] != ndof:
         raise ValueError(
             f"{name} must have shape (..., {ndof}) (joints [q1, q2, q3, q4, q5, q7] in rad); "
@@ -60,9 +89,11 @@ def reduce_seeds(s: np.ndarray) -> np.ndarray:
 
 def _as_transforms(T, name: str) -> np.ndarray:
     try:
-        arr = np.asarray(T, dtype=float)
+        arr = _real_array(T, name, "(..., 4, 4)")
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be numbers of shape (..., 4, 4); got {T!r}") from exc
+        if "complex" in str(exc):
+            raise
+        raise ValueError(f"{name} must be numbers of shape (..., 4, 4); got {_short(T)}") from exc
     if arr.ndim < 2 or arr.shape[-2:] != (4, 4):
         raise ValueError(f"{name} must have shape (..., 4, 4) (homogeneous transforms); "
                          f"got shape {arr.shape}")
@@ -162,6 +193,65 @@ def check_transforms(T: ArrayLike, name: str = "T") -> np.ndarray:
         where = f" (pose {first})" if clean.ndim > 2 else ""
         raise ValueError(f"{name}{where}: {_reason(flat[first])}")
     return clean
+
+
+def project_transforms(T: ArrayLike, tol: float = 1e-3, name: str = "T") -> tuple[np.ndarray, float, float]:
+    """Poses whose rotations are *nearly* orthonormal, projected onto the nearest rotations.
+
+    The explicit, lenient form of :func:`check_transforms` (which accepts only
+    :data:`ORTHONORMAL_TOL`): for rotations typed or exported with few decimals (four decimals
+    give errors up to about 1e-4). Each rotation ``R`` is replaced by the nearest proper
+    rotation (:func:`ik7r.geometry.rotations.nearest_rotation`, the Frobenius norm's), the bottom
+    row by ``[0, 0, 0, 1]``.
+
+    Parameters
+    ----------
+    T : array_like, shape (..., 4, 4)
+    tol : float
+        Largest accepted entry of ``|R^T R - I|`` (and of the bottom row's deviation).
+    name : str
+        For messages.
+
+    Returns
+    -------
+    T_projected : ndarray, shape (..., 4, 4)
+    error : float
+        The largest ``|R^T R - I|`` entry found.
+    moved : float
+        The largest change of an entry of ``T`` made by the projection.
+
+    Raises
+    ------
+    ValueError
+        NaN or infinity, an error above ``tol``, or ``det R < 0`` (a reflection).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> R = np.round([[0.36, -0.48, 0.8], [0.8, 0.6, 0.0], [-0.48, 0.64, 0.6]], 4)
+    >>> T, err, moved = project_transforms(np.block([[R, np.zeros((3, 1))], [np.zeros((1, 3)), 1]]))
+    >>> bool(np.allclose(T[:3, :3].T @ T[:3, :3], np.eye(3), atol=1e-14)), err < 1e-3
+    (True, True)
+    """
+    arr = np.array(_as_transforms(T, name), dtype=float)
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must be finite; got NaN or infinity")
+    R = arr[..., :3, :3]
+    gram = np.abs(np.swapaxes(R, -1, -2) @ R - np.eye(3)).max(initial=0.0)
+    bottom = np.abs(arr[..., 3, :] - np.array([0.0, 0.0, 0.0, 1.0])).max(initial=0.0)
+    err = float(max(gram, bottom))
+    det = np.linalg.det(R)
+    if err > tol or np.any(det <= 0):
+        raise ValueError(f"{name}: rotation is not proper orthonormal (max |R^T R - I| = {gram:.2e}, "
+                         f"bottom row off by {bottom:.2e}, det = {float(np.min(det)):.6f}; expected within "
+                         f"{tol:g} and det = +1)")
+    from .rotations import nearest_rotation
+
+    out = arr.copy()
+    out[..., :3, :3] = nearest_rotation(R)
+    out[..., 3, :] = (0.0, 0.0, 0.0, 1.0)
+    moved = float(np.abs(out - arr).max(initial=0.0))
+    return out, err, moved
 
 
 def check_config(config: Config) -> tuple[int, int, int]:

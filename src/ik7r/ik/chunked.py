@@ -20,10 +20,9 @@ once, plus offsets), as a directory of ``.npy`` files or one ``.npz``; the comma
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
-import shutil
-import tempfile
 import zipfile
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -32,7 +31,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..geometry.checks import check_joints
+from ..geometry.checks import check_joints, pose_batch
 
 if TYPE_CHECKING:
     from .._typing import PathLike
@@ -71,12 +70,27 @@ class FromJoints:
         return int(np.shape(self.q)[0])
 
     def joints(self, start: int, stop: int) -> np.ndarray:
-        """The joint vectors ``[start, stop)`` (rad)."""
-        return check_joints(np.asarray(self.q[start:stop], dtype=float))
+        """The joint vectors ``[start, stop)`` (rad); rows may hold NaN (bad rows)."""
+        q = self.q[start:stop]
+        if np.iscomplexobj(q):
+            check_joints(q, "joints")  # raises: complex joints are refused
+        return np.asarray(q, dtype=float)
 
     def __getitem__(self, index: slice) -> np.ndarray:
         start, stop, _ = _bounds(index, len(self))
-        return self.robot.fk(self.joints(start, stop))
+        return _fk_rows(self.robot, self.joints(start, stop))
+
+
+def _fk_rows(robot, q: np.ndarray) -> np.ndarray:
+    """``robot.fk`` of the finite rows of ``q`` (n, 6); rows with NaN or infinity give NaN poses
+    (marked invalid, solved as no solution), so one bad row does not stop a batch."""
+    good = np.all(np.isfinite(q), axis=1)
+    if good.all():
+        return robot.fk(q)
+    T = np.full((len(q), 4, 4), np.nan)
+    if good.any():
+        T[good] = robot.fk(q[good])
+    return T
 
 
 @dataclass(frozen=True)
@@ -124,7 +138,7 @@ class RandomPoses:
 
     def __getitem__(self, index: slice) -> np.ndarray:
         start, stop, _ = _bounds(index, len(self))
-        return self.robot.fk(self.joints(start, stop))
+        return _fk_rows(self.robot, self.joints(start, stop))
 
 
 def _bounds(index, n: int) -> tuple[int, int, int]:
@@ -202,13 +216,8 @@ def solve_all_chunked(robot: Robot, poses: np.ndarray | RandomPoses | FromJoints
     stop = n if stop is None else min(int(stop), n)
     for a in range(max(0, int(start)), stop, chunk):
         b = min(a + chunk, stop)
-        joints: np.ndarray | None
-        if isinstance(poses, (RandomPoses, FromJoints)):
-            joints = q_from = poses.joints(a, b)
-            T = robot.fk(q_from)
-        else:
-            joints = None
-            T = np.asarray(poses[a:b], dtype=float)
+        joints = poses.joints(a, b) if hasattr(poses, "joints") else None
+        T = _fk_rows(robot, joints) if joints is not None else pose_batch(poses[a:b], "poses")
         q, valid = ik_all_batch(robot, T)
         yield ChunkResult(start=a, T=T, q=q, valid=valid, count=valid.sum(axis=1), joints=joints)
 
@@ -245,9 +254,18 @@ class _NpyAppender:
         self.rows += a.shape[0]
 
     def close(self) -> None:
+        """Write the final header and close (flushed to disk)."""
         self._f.seek(0)
         self._f.write(_npy_header((self.rows,) + self.row_shape, self.dtype.str))
+        self._f.flush()
+        with contextlib.suppress(OSError):
+            os.fsync(self._f.fileno())
         self._f.close()
+
+    def abandon(self) -> None:
+        """Close without completing (the caller removes the file)."""
+        with contextlib.suppress(OSError):
+            self._f.close()
 
 
 @dataclass(frozen=True)
@@ -284,7 +302,9 @@ def write_solutions(robot: Robot, poses: np.ndarray | RandomPoses | FromJoints, 
         See :func:`solve_all_chunked`.
     out : str or Path
         A directory (created; existing files of the same names are replaced), or a file
-        ending in ``.npz``. Either holds:
+        ending in ``.npz``, written atomically (:mod:`ik7r.outputs`): the files are staged and
+        published when complete, ``meta.json`` last (an old one is removed first); an error
+        or an interrupt leaves no partial file and nothing hidden. Either holds:
 
         ``q`` : (M, 6) float64
             Every solution (rad), pose after pose, each pose's sorted as ``ik_all_batch``.
@@ -304,31 +324,65 @@ def write_solutions(robot: Robot, poses: np.ndarray | RandomPoses | FromJoints, 
     """
     import time
 
+    from ..outputs import OutputDir, atomic_file
+
     out = Path(out)
     as_npz = out.suffix == ".npz"
     if as_npz:
+        if out.is_dir():
+            raise ValueError(f"{out} is a directory; a .npz output must be a file")
+        # the .npy files are staged in a hidden directory beside the archive, removed in any case
         out.parent.mkdir(parents=True, exist_ok=True)
-        folder = Path(tempfile.mkdtemp(prefix=".ik7r-batch-", dir=out.parent))
+        stage = OutputDir(out.parent / f".{out.name}.ik7r-parts", manifest="meta.json")
     else:
         if out.exists() and not out.is_dir():
             raise ValueError(f"{out} exists and is not a directory")
-        out.mkdir(parents=True, exist_ok=True)
-        folder = out
+        stage = OutputDir(out, manifest="meta.json", owned=("q.npy", "offsets.npy", "joints.npy"))
     n = len(poses)
     started = time.perf_counter()
+    with stage:
+        folder = stage.path
+        assert folder is not None  # set by OutputDir.__enter__
+        total, unreachable, invalid, max_count = _stream_solutions(robot, poses, folder, chunk, progress)
+        seconds = time.perf_counter() - started
+        summary = BatchSummary(poses=n, solutions=total, unreachable=unreachable - invalid,
+                               invalid=invalid, max_count=max_count, seconds=seconds, path=out)
+        info = {"robot": getattr(robot, "name", ""), "unit": getattr(robot, "unit", ""), "poses": n,
+                "solutions": total, "unreachable": summary.unreachable, "invalid": invalid,
+                "max_count": max_count, "seconds": seconds,
+                "layout": "solutions of pose i are q[offsets[i]:offsets[i + 1]] (rad)"}
+        info.update(meta or {})
+        with atomic_file(folder / "meta.json") as fh:
+            fh.write(json.dumps(info, indent=2))
+        if as_npz:
+            with atomic_file(out, "wb") as fh, zipfile.ZipFile(
+                    fh, "w", compression=zipfile.ZIP_STORED, allowZip64=True) as zf:
+                for name in ("q.npy", "offsets.npy", "joints.npy", "meta.json"):
+                    f = folder / name
+                    if f.exists():
+                        zf.write(f, arcname=name)  # streamed, not loaded
+            for f in list(folder.iterdir()):  # nothing to publish beside the archive
+                f.unlink()
+    if as_npz:
+        with contextlib.suppress(OSError):
+            stage.target.rmdir()
+    return summary
+
+
+def _stream_solutions(robot, poses, folder: Path, chunk: int, progress) -> tuple[int, int, int, int]:
+    """Solve chunk by chunk, appending to ``folder``'s q.npy, offsets.npy (and joints.npy)."""
     q_file = _NpyAppender(folder / "q.npy", (6,), np.float64)
-    has_joints = hasattr(poses, "joints")
-    j_file = _NpyAppender(folder / "joints.npy", (6,), np.float64) if has_joints else None
-    offsets = np.lib.format.open_memmap(folder / "offsets.npy", mode="w+", dtype=np.int64,
-                                        shape=(n + 1,))
-    offsets[0] = 0
+    j_file = _NpyAppender(folder / "joints.npy", (6,), np.float64) if hasattr(poses, "joints") else None
+    # offsets are appended too (never a memory map: a full disk must be an error, not SIGBUS)
+    o_file = _NpyAppender(folder / "offsets.npy", (), np.int64)
+    o_file.append(np.zeros(1, dtype=np.int64))
     total = unreachable = invalid = max_count = 0
     try:
         for res in solve_all_chunked(robot, poses, chunk=chunk):
             q_file.append(res.q[res.valid])
             if j_file is not None and res.joints is not None:
                 j_file.append(res.joints)
-            offsets[res.start + 1: res.stop + 1] = total + np.cumsum(res.count)
+            o_file.append(total + np.cumsum(res.count))
             total += int(res.count.sum())
             zero = res.count == 0
             unreachable += int(zero.sum())
@@ -338,33 +392,15 @@ def write_solutions(robot: Robot, poses: np.ndarray | RandomPoses | FromJoints, 
                 max_count = max(max_count, int(res.count.max()))
             if progress is not None:
                 progress.advance(len(res.count))
-    finally:
-        q_file.close()
-        if j_file is not None:
-            j_file.close()
-        offsets.flush()
-        del offsets
-    seconds = time.perf_counter() - started
-    summary = BatchSummary(poses=n, solutions=total, unreachable=unreachable - invalid,
-                           invalid=invalid, max_count=max_count, seconds=seconds, path=out)
-    info = {"robot": getattr(robot, "name", ""), "unit": getattr(robot, "unit", ""), "poses": n,
-            "solutions": total, "unreachable": summary.unreachable, "invalid": invalid,
-            "max_count": max_count, "seconds": seconds,
-            "layout": "solutions of pose i are q[offsets[i]:offsets[i + 1]] (rad)"}
-    info.update(meta or {})
-    if as_npz:
-        (folder / "meta.json").write_text(json.dumps(info, indent=2))
-        tmp = out.with_name(out.name + ".part")
-        with zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_STORED, allowZip64=True) as zf:
-            for name in ("q.npy", "offsets.npy", "joints.npy", "meta.json"):
-                f = folder / name
-                if f.exists():
-                    zf.write(f, arcname=name)  # streamed, not loaded
-        os.replace(tmp, out)
-        shutil.rmtree(folder, ignore_errors=True)
-    else:
-        (folder / "meta.json").write_text(json.dumps(info, indent=2))
-    return summary
+    except BaseException:
+        for f in (q_file, j_file, o_file):
+            if f is not None:
+                f.abandon()
+        raise
+    for f in (q_file, j_file, o_file):
+        if f is not None:
+            f.close()
+    return total, unreachable, invalid, max_count
 
 
 def _valid_poses(T: np.ndarray) -> np.ndarray:

@@ -37,6 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..geometry.rotations import invert
+from ..limits import check_work, limit, rows_estimate
 from ..units import METRES_PER_UNIT, unit_scale
 from .trajectory import DEFAULT_MAX_STEP, PathSolution, track
 
@@ -445,7 +446,10 @@ def dense_peaks(jp: JointPath, timing, per: int = 8):
 
 
 def output_times(duration: float, rate: float, extra=()) -> np.ndarray:
-    """Rows every ``1 / rate`` s from 0, ``duration`` last, and the ``extra`` instants."""
+    """Rows every ``1 / rate`` s from 0, ``duration`` last, and the ``extra`` instants (at most
+    ``ik7r.limits.MAX_TRAJECTORY_ROWS``, estimated before allocating)."""
+    check_work(f"trajectory rows ({duration:.6g} s at {rate:g} Hz)", rows_estimate(duration, rate),
+               limit("MAX_TRAJECTORY_ROWS"), "--max-rows, or fewer rows with --rate")
     n = int(math.floor(duration * rate + 1e-9)) + 1
     t = np.arange(n) / rate
     if duration - t[-1] > 1e-9:

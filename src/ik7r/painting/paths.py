@@ -21,6 +21,7 @@ if TYPE_CHECKING:
 
 import csv
 import math
+from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path as FilePath
@@ -29,6 +30,8 @@ import numpy as np
 
 from ..geometry.checks import check_transforms
 from ..geometry.rotations import quat_to_matrix, rpy_to_matrix, transform
+from ..limits import MAX_PATH_FILE_BYTES, MAX_PATH_SAMPLES, check_work
+from ..textio import decode_text, read_bytes_limited
 
 __all__ = [
     "Path",
@@ -243,6 +246,7 @@ def raster_path(
     standoff: float = 0.0,
     step: float = DEFAULT_STEP,
     R_workpiece_gun=GUN_DOWN,
+    max_samples: int = MAX_PATH_SAMPLES,
 ) -> Path:
     """A raster (boustrophedon) over a rectangle in the workpiece's x-y plane.
 
@@ -267,6 +271,9 @@ def raster_path(
         Largest distance between samples (> 0); every pass and turn end is a sample.
     R_workpiece_gun : array_like, shape (3, 3)
         Gun orientation in the workpiece frame (default :data:`GUN_DOWN`, the paper's).
+    max_samples : int
+        Most passes and samples (default :data:`ik7r.limits.MAX_PATH_SAMPLES`), estimated before
+        anything is allocated (:class:`ik7r.limits.WorkLimitError` above).
 
     Returns
     -------
@@ -289,7 +296,15 @@ def raster_path(
     step = _positive("step", step)
     R_wg = check_transforms(transform(np.asarray(R_workpiece_gun, dtype=float)), "R_workpiece_gun")[:3, :3]
 
-    n = int(math.ceil(h / spacing - 1e-9)) + 1 if h > 0 else 1
+    # estimated before allocating: passes, and samples of the passes and turns
+    passes = math.ceil(h / spacing - 1e-9) + 1 if h > 0 else 1
+    check_work(f"raster passes (height {h:g} / spacing {spacing:g})", passes, max_samples,
+               "--max-samples, or a larger --spacing")
+    samples = passes * ((w + 2 * margin) / step + 2) + (passes - 1) * (
+        math.pi * h / max(passes - 1, 1) / 2 / step + 2)  # a float: inf for absurd sizes
+    check_work(f"raster path samples (step {step:g})", samples, max_samples,
+               "--max-samples, or a larger --step")
+    n = int(passes)
     gap = h / (n - 1) if n > 1 else 0.0
     x_end = w / 2 + margin
     # segments: lines (kind 0) and half circles (kind 1), in workpiece coordinates (z = standoff)
@@ -350,6 +365,11 @@ def raster_path(
 
 
 # ----------------------------------------------------------------------------- CSV
+def _cut(row) -> str:
+    text = repr(row)
+    return text if len(text) <= 100 else text[:97] + "..."
+
+
 _QUAT = ("qw", "qx", "qy", "qz")
 _RPY = ("roll", "pitch", "yaw")
 _SPRAY_WORDS = {"1": True, "0": False, "true": True, "false": False, "on": True, "off": False}
@@ -361,6 +381,8 @@ def load_path_csv(
     *,
     default_rotation=GUN_DOWN,
     rotation_radius: float = 100.0,
+    max_bytes: int = MAX_PATH_FILE_BYTES,
+    max_samples: int = MAX_PATH_SAMPLES,
 ) -> Path:
     """A path from a CSV file of tool poses in a workpiece frame.
 
@@ -370,7 +392,8 @@ def load_path_csv(
     every pose has ``default_rotation`` (in the workpiece frame; default :data:`GUN_DOWN`).
     An optional ``spray`` column (``1``/``0``, ``true``/``false``, ``on``/``off``) gives the
     gun state per sample (:attr:`Path.spray`); without it the gun is on throughout.
-    Other columns are ignored; blank lines and lines starting with ``#`` are skipped.
+    Other columns are ignored (a column named twice is an error); blank lines and lines
+    starting with ``#`` are skipped. The file is UTF-8 (a byte-order mark is accepted).
 
     Parameters
     ----------
@@ -380,28 +403,41 @@ def load_path_csv(
     default_rotation : array_like, shape (3, 3)
     rotation_radius : float
         See :func:`path_from_poses`.
+    max_bytes, max_samples : int
+        Largest file and most rows accepted (:mod:`ik7r.limits`).
 
     Raises
     ------
     FileNotFoundError
     ValueError
-        Malformed file: the message names the file, the line and the problem.
+        Malformed file, not UTF-8, too big: the message names the file, the line and the problem.
     """
     fp = FilePath(file)
     if not fp.is_file():
         raise FileNotFoundError(f"no such path file: {fp}")
     T_bw = np.eye(4) if T_base_workpiece is None else check_transforms(T_base_workpiece, "T_base_workpiece")
-    with fp.open(newline="") as fh:
-        lines = [(i + 1, line) for i, line in enumerate(fh)
-                 if line.strip() and not line.lstrip().startswith("#")]
+    text = decode_text(read_bytes_limited(fp, max_bytes, "path file", ValueError), str(fp), "path file",
+                       ValueError)
+    text = text.replace("\r\n", "\n").replace("\r", "\n")
+    if "\x00" in text:
+        raise ValueError(f"{fp}: the path file holds NUL bytes; expected CSV text")
+    lines = [(i + 1, line) for i, line in enumerate(text.split("\n"))
+             if line.strip() and not line.lstrip().startswith("#")]
     if not lines:
         raise ValueError(f"{fp}: empty file; expected a header row x,y,z[,qw,qx,qy,qz | ,roll,pitch,yaw]")
-    rows = list(csv.reader([line for _, line in lines]))
+    check_work(f"rows in {fp}", len(lines) - 1, max_samples, "--max-samples")
+    try:
+        rows = list(csv.reader([line for _, line in lines]))
+    except csv.Error as exc:
+        raise ValueError(f"{fp}: not CSV: {exc}") from exc
     header = [c.strip().lower() for c in rows[0]]
     missing = [c for c in ("x", "y", "z") if c not in header]
     if missing:
-        raise ValueError(f"{fp}: the header row {rows[0]} lacks columns {missing}; expected x,y,z "
+        raise ValueError(f"{fp}: the header row {_cut(rows[0])} lacks columns {missing}; expected x,y,z "
                          f"and optionally qw,qx,qy,qz or roll,pitch,yaw (deg)")
+    dup = sorted(c for c, k in Counter(header).items() if c and k > 1)
+    if dup:
+        raise ValueError(f"{fp}, line {lines[0][0]}: duplicate columns {dup} in the header")
     has_q = any(c in header for c in _QUAT)
     has_r = any(c in header for c in _RPY)
     if has_q and has_r:
@@ -409,16 +445,17 @@ def load_path_csv(
     need = ["x", "y", "z"] + (list(_QUAT) if has_q else list(_RPY) if has_r else [])
     for c in need:
         if c not in header:
-            raise ValueError(f"{fp}: column {c!r} is missing (header {rows[0]})")
+            raise ValueError(f"{fp}: column {c!r} is missing (header {_cut(rows[0])})")
     cols = [header.index(c) for c in need]
     data = np.empty((len(rows) - 1, len(need)))
     for r, (row, (lineno, _)) in enumerate(zip(rows[1:], lines[1:])):
         try:
             data[r] = [float(row[c]) for c in cols]
         except (IndexError, ValueError) as exc:
-            raise ValueError(f"{fp}, line {lineno}: expected numbers in columns {need}; got {row}") from exc
+            raise ValueError(f"{fp}, line {lineno}: expected numbers in columns {need}; "
+                             f"got {_cut(row)}") from exc
         if not np.all(np.isfinite(data[r])):
-            raise ValueError(f"{fp}, line {lineno}: values must be finite; got {row}")
+            raise ValueError(f"{fp}, line {lineno}: values must be finite; got {_cut(row)}")
     if len(data) < 2:
         raise ValueError(f"{fp}: a path needs at least 2 rows; got {len(data)}")
     if has_q:
@@ -446,6 +483,10 @@ def load_path_csv(
                                  f"got {word!r}")
             spray[r] = _SPRAY_WORDS[word]
     T_base_tool = T_bw @ transform(R_w, data[:, :3])
+    steps = np.linalg.norm(np.diff(T_base_tool[:, :3, 3], axis=0), axis=1)
+    if not (np.all(np.isfinite(T_base_tool)) and np.isfinite(steps.sum())):
+        raise ValueError(f"{fp}: coordinates too large (the path's length overflows); expected lengths "
+                         "in the robot's unit")
     try:
         p = path_from_poses(T_base_tool, rotation_radius=rotation_radius, name=fp.name)
     except ValueError as exc:

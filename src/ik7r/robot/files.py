@@ -37,6 +37,7 @@ The TOML format (angles in degrees, lengths in ``unit``)::
 from __future__ import annotations
 
 import math
+import os
 import sys
 from importlib import resources
 from pathlib import Path
@@ -46,6 +47,8 @@ import numpy as np
 from .._typing import RobotSource
 from ..errors import FamilyError, RobotFileError
 from ..geometry.rotations import rpy_to_matrix, transform
+from ..limits import MAX_ROBOT_FILE_BYTES
+from ..textio import decode_text, read_text_file
 from ..units import unit_scale
 from .model import DEFAULT_JOINT_NAMES, Robot
 
@@ -61,7 +64,8 @@ BUILTIN_ROBOTS = {"paper": "paper.toml", "irb5400": "irb5400.toml"}
 
 
 
-def load_robot(path: RobotSource = None, *, base: str | None = None, tip: str | None = None) -> Robot:
+def load_robot(path: RobotSource = None, *, base: str | None = None, tip: str | None = None,
+               max_bytes: int = MAX_ROBOT_FILE_BYTES) -> Robot:
     """Load a robot.
 
     Parameters
@@ -72,28 +76,41 @@ def load_robot(path: RobotSource = None, *, base: str | None = None, tip: str | 
     base, tip : str, optional
         URDF only: the links the chain runs from and to (default: the root, and the deepest
         leaf).
+    max_bytes : int
+        Largest file accepted (default :data:`ik7r.limits.MAX_ROBOT_FILE_BYTES`, 64 MiB).
 
     Raises
     ------
     FileNotFoundError
         The file does not exist.
     RobotFileError
-        The file is malformed (a ``ValueError`` naming the file and the problem).
+        The file is malformed, too big, unreadable or not UTF-8 (a ``ValueError`` naming the
+        file and the problem).
+    ValueError
+        ``path`` is not a name or a path.
     FamilyError
         The chain is not of the family (a ``ValueError`` naming the joint).
     """
     if path is None:
         path = "paper"
+    if isinstance(path, bytes):
+        path = os.fsdecode(path)
+    if not isinstance(path, (str, os.PathLike)):
+        raise ValueError(f"robot must be a built-in name ({', '.join(BUILTIN_ROBOTS)}) or the path of a "
+                         f".toml or .urdf file; got {type(path).__name__} {path!r}")
     if isinstance(path, str) and path in BUILTIN_ROBOTS:
-        text = resources.files("ik7r.robot").joinpath("data").joinpath(BUILTIN_ROBOTS[path]).read_text()
+        data = resources.files("ik7r.robot").joinpath("data").joinpath(BUILTIN_ROBOTS[path])
+        text = data.read_text(encoding="utf-8")
         return robot_from_toml(text, source=f"built-in robot {path!r}")
     p = Path(path)
+    if str(path) == "" or "\x00" in str(path):
+        raise ValueError(f"not a robot name or file: {str(path)!r}")
     if p.suffix.lower() == ".urdf":
         from .urdf import robot_from_urdf
 
         if not p.is_file():
             raise FileNotFoundError(f"no such robot file: {p}")
-        return robot_from_urdf(p, base=base, tip=tip)
+        return robot_from_urdf(p, base=base, tip=tip, max_bytes=max_bytes)
     if base is not None or tip is not None:
         raise ValueError("base= and tip= apply to URDF files only")
     if p.suffix.lower() != ".toml":
@@ -103,7 +120,7 @@ def load_robot(path: RobotSource = None, *, base: str | None = None, tip: str | 
         raise RobotFileError(f"{p}: unknown robot file type {p.suffix!r}; expected .toml or .urdf")
     if not p.is_file():
         raise FileNotFoundError(f"no such robot file: {p}")
-    return robot_from_toml(p.read_text(), source=str(p))
+    return robot_from_toml(read_text_file(p, max_bytes, "robot file"), source=str(p))
 
 
 def _numbers(table: dict, key: str, n: int, where: str, required: bool = True):
@@ -114,29 +131,61 @@ def _numbers(table: dict, key: str, n: int, where: str, required: bool = True):
     val = table[key]
     if (not isinstance(val, list) or len(val) != n
             or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in val)):
-        raise RobotFileError(f"{where}: '{key}' must be a list of {n} numbers; got {val!r}")
-    arr = np.array(val, dtype=float)
+        raise RobotFileError(f"{where}: '{key}' must be a list of {n} numbers; got {_short(val)}")
+    try:
+        arr = np.array(val, dtype=float)
+    except OverflowError:  # a TOML integer beyond the floats
+        arr = np.array([math.inf])
     if not np.all(np.isfinite(arr)):
-        raise RobotFileError(f"{where}: '{key}' must be finite; got {val!r}")
+        raise RobotFileError(f"{where}: '{key}' must be finite; got {_short(val)}")
     return arr
 
 
-def _pose(table: dict, where: str) -> np.ndarray:
-    unknown = set(table) - {"xyz", "rpy"}
-    if unknown:
-        raise RobotFileError(f"{where}: unknown keys {sorted(unknown)}; expected xyz and rpy")
+def _pose(table, where: str) -> np.ndarray:
+    _table_keys(table, where, {"xyz", "rpy"})
     xyz = _numbers(table, "xyz", 3, where, required=False)
     rpy = _numbers(table, "rpy", 3, where, required=False)
     R = rpy_to_matrix(np.radians(rpy)) if rpy is not None else np.eye(3)
     return transform(R, xyz if xyz is not None else np.zeros(3))
 
 
+def _table_keys(table, where: str, known: set[str]) -> None:
+    """``table`` must be a TOML table holding only ``known`` keys."""
+    if not isinstance(table, dict):
+        raise RobotFileError(f"{where}: must be a table ({', '.join(sorted(known))}); "
+                             f"got {type(table).__name__} {_short(table)}")
+    unknown = set(table) - known
+    if unknown:
+        raise RobotFileError(f"{where}: unknown keys {sorted(unknown)}; expected {sorted(known)}")
+
+
+def _short(x) -> str:
+    text = repr(x)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
 def robot_from_toml(text: str, source: str = "<string>") -> Robot:
-    """Build a :class:`Robot` from the text of a TOML robot file (see the module docstring)."""
+    """Build a :class:`Robot` from the text of a TOML robot file (see the module docstring).
+
+    Raises
+    ------
+    RobotFileError
+        Not TOML, nested too deeply, a missing or unknown key in any table, a value of the
+        wrong type or length (the message starts with ``source`` and names the table and key).
+    FamilyError
+        The table is outside the family.
+    """
+    if isinstance(text, bytes):
+        text = decode_text(text, source, "robot file")
+    if not isinstance(text, str):
+        raise RobotFileError(f"{source}: TOML text expected; got {type(text).__name__}")
+    text = text.removeprefix("\ufeff")  # a byte-order mark
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise RobotFileError(f"{source}: not valid TOML: {exc}") from exc
+    except RecursionError:
+        raise RobotFileError(f"{source}: not a robot file: arrays or tables nested too deeply") from None
     known = {"name", "unit", "description", "dh", "coupling", "limits", "base", "tool", "joint_names"}
     unknown = set(data) - known
     if unknown:
@@ -144,11 +193,14 @@ def robot_from_toml(text: str, source: str = "<string>") -> Robot:
     for key in ("name", "unit"):
         if not isinstance(data.get(key), str):
             raise RobotFileError(f"{source}: '{key}' must be a string")
+    if "description" in data and not isinstance(data["description"], str):
+        raise RobotFileError(f"{source}: 'description' must be a string")
     for key in ("dh", "limits"):
-        if not isinstance(data.get(key), dict):
+        if key not in data:
             raise RobotFileError(f"{source}: missing table [{key}]")
     dh_t = data["dh"]
     where = f"{source} [dh]"
+    _table_keys(dh_t, where, {"a", "alpha", "d", "theta_offset", "sign"})
     a = _numbers(dh_t, "a", 7, where)
     alpha = _numbers(dh_t, "alpha", 7, where)
     d = _numbers(dh_t, "d", 7, where)
@@ -156,15 +208,19 @@ def robot_from_toml(text: str, source: str = "<string>") -> Robot:
     sign = _numbers(dh_t, "sign", 7, where, required=False)
     lim = data["limits"]
     where = f"{source} [limits]"
+    _table_keys(lim, where, {"lower", "upper", "velocity", "acceleration"})
     lower = _numbers(lim, "lower", 6, where)
     upper = _numbers(lim, "upper", 6, where)
     vel = _numbers(lim, "velocity", 6, where, required=False)
     acc = _numbers(lim, "acceleration", 6, where, required=False)
     coup = data.get("coupling", {})
+    _table_keys(coup, f"{source} [coupling]", {"multiplier", "offset"})
     mult = coup.get("multiplier", -1.0)
     coff = coup.get("offset", 0.0)
-    if not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in (mult, coff)):
-        raise RobotFileError(f"{source} [coupling]: multiplier and offset must be numbers")
+    if not all(isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+               for x in (mult, coff)):
+        raise RobotFileError(f"{source} [coupling]: multiplier and offset must be finite numbers; "
+                             f"got {_short(mult)} and {_short(coff)}")
     names = data.get("joint_names", list(DEFAULT_JOINT_NAMES))
     if not (isinstance(names, list) and len(names) == 7 and all(isinstance(n, str) for n in names)):
         raise RobotFileError(f"{source}: 'joint_names' must be a list of 7 strings")
@@ -188,6 +244,8 @@ def robot_from_toml(text: str, source: str = "<string>") -> Robot:
         )
     except FamilyError as exc:
         raise FamilyError(f"{source}: {exc}") from exc
+    except RobotFileError:
+        raise
     except ValueError as exc:
         raise RobotFileError(f"{source}: {exc}") from exc
 

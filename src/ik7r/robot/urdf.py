@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import xml.etree.ElementTree as ET
+from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -32,6 +33,8 @@ import numpy as np
 from .._typing import ArrayLike, PathLike
 from ..errors import FamilyError, RobotFileError
 from ..geometry.rotations import dh_transform, invert, rpy_to_matrix, transform
+from ..limits import MAX_ROBOT_FILE_BYTES
+from ..textio import read_bytes_limited
 from .family import ANGLE_TOL
 from .model import Robot
 
@@ -149,6 +152,12 @@ def _float_attr(el: ET.Element, key: str, what: str, default: float | None) -> f
     return x
 
 
+def _few(names: list[str], k: int = 8) -> str:
+    """At most ``k`` names for a message."""
+    shown = ", ".join(repr(n) for n in names[:k])
+    return f"[{shown}{f', ... ({len(names)} in all)' if len(names) > k else ''}]"
+
+
 def _parse_joint(el: ET.Element, source: str) -> UrdfJoint:
     name = el.get("name")
     if not name:
@@ -169,10 +178,14 @@ def _parse_joint(el: ET.Element, source: str) -> UrdfJoint:
     origin = transform(rpy_to_matrix(rpy), xyz)
     ax = el.find("axis")
     axis = _floats(None if ax is None else ax.get("xyz"), 3, f"{where}: <axis xyz>", (1, 0, 0))
-    norm = float(np.linalg.norm(axis))
-    if jtype != "fixed" and norm < 1e-9:
+    big = float(np.abs(axis).max())
+    if jtype != "fixed" and not big >= 1e-9:
         raise RobotFileError(f"{where}: the axis must not be zero; got {axis.tolist()}")
-    axis = axis / norm if norm > 0 else np.array([1.0, 0.0, 0.0])
+    if big > 0:  # scaled first: 1e200 components must not overflow the norm
+        axis = axis / big
+        axis = axis / np.linalg.norm(axis)
+    else:
+        axis = np.array([1.0, 0.0, 0.0])
     lower = upper = velocity = None
     lim = el.find("limit")
     if jtype == "revolute" and lim is None:
@@ -196,17 +209,54 @@ def _parse_joint(el: ET.Element, source: str) -> UrdfJoint:
                      lower=lower, upper=upper, velocity=velocity, mimic=mimic)
 
 
+def _depths(links: list[str], parent_joint: dict[str, UrdfJoint]) -> dict[str, int]:
+    """Number of joints above each link, in time linear in the number of links (a loop in the
+    parent relation is an error naming a link on it)."""
+    depth: dict[str, int] = {}
+    for start in links:
+        if start in depth:
+            continue
+        trail, on_trail, link = [], set(), start
+        while link not in depth and link in parent_joint:
+            if link in on_trail:
+                raise RobotFileError(f"the joints form a loop through link {link!r}")
+            on_trail.add(link)
+            trail.append(link)
+            link = parent_joint[link].parent
+        d = depth.get(link, 0)
+        if link not in depth:
+            depth[link] = 0
+        for ln in reversed(trail):
+            d += 1
+            depth[ln] = d
+    return depth
+
+
 def _path_to_root(link: str, parent_joint: dict[str, UrdfJoint]) -> list[UrdfJoint]:
+    """The joints from the root down to ``link`` (the parent relation has no loop)."""
     path = []
-    seen = {link}
     while link in parent_joint:
         j = parent_joint[link]
         path.append(j)
         link = j.parent
-        if link in seen:
-            raise RobotFileError(f"the joints form a loop through link {link!r}")
-        seen.add(link)
     return path[::-1]
+
+
+def _below(links: list[str], parent_joint: dict[str, UrdfJoint], base: str) -> dict[str, bool]:
+    """Whether each link is ``base`` or below it (linear time, memoised)."""
+    below: dict[str, bool] = {base: True}
+    for start in links:
+        trail, link = [], start
+        while link not in below:
+            trail.append(link)
+            if link not in parent_joint:
+                below[link] = False
+                break
+            link = parent_joint[link].parent
+        value = below[link]
+        for ln in trail:
+            below[ln] = value
+    return below
 
 
 def read_chain(text: str | bytes, *, base: str | None = None, tip: str | None = None,
@@ -228,9 +278,13 @@ def read_chain(text: str | bytes, *, base: str | None = None, tip: str | None = 
     RobotFileError
         Malformed XML, or links and joints that do not form a tree, or unknown links.
     """
+    if isinstance(text, str):
+        text = text.removeprefix("\ufeff")
     try:
         root = ET.fromstring(text)
     except ET.ParseError as exc:
+        raise RobotFileError(f"{source}: not valid XML: {exc}") from exc
+    except (ValueError, LookupError) as exc:  # an encoding Python does not know, a NUL in text
         raise RobotFileError(f"{source}: not valid XML: {exc}") from exc
     if root.tag != "robot":
         raise RobotFileError(f"{source}: the root element must be <robot>; got <{root.tag}>")
@@ -239,13 +293,13 @@ def read_chain(text: str | bytes, *, base: str | None = None, tip: str | None = 
         raise RobotFileError(f"{source}: a <link> has no name")
     link_set = set(links)
     if len(link_set) != len(links):
-        dup = sorted({n for n in links if links.count(n) > 1})
-        raise RobotFileError(f"{source}: duplicate link names {dup}")
+        dup = sorted(n for n, k in Counter(links).items() if k > 1)
+        raise RobotFileError(f"{source}: duplicate link names {_few(dup)}")
     joints = [_parse_joint(el, source) for el in root.findall("joint")]
     names = [j.name for j in joints]
     if len(set(names)) != len(names):
-        dup = sorted({n for n in names if names.count(n) > 1})
-        raise RobotFileError(f"{source}: duplicate joint names {dup}")
+        dup = sorted(n for n, k in Counter(names).items() if k > 1)
+        raise RobotFileError(f"{source}: duplicate joint names {_few(dup)}")
     parent_joint: dict[str, UrdfJoint] = {}
     for j in joints:
         for ln in (j.parent, j.child):
@@ -260,23 +314,23 @@ def read_chain(text: str | bytes, *, base: str | None = None, tip: str | None = 
         raise RobotFileError(f"{source}: no <link> elements")
     roots = [n for n in links if n not in parent_joint]
     if len(roots) != 1:
-        raise RobotFileError(f"{source}: a URDF must have exactly one root link; got {roots}")
+        raise RobotFileError(f"{source}: a URDF must have exactly one root link; got {_few(roots)}")
     try:
-        paths = {n: _path_to_root(n, parent_joint) for n in links}
+        depth = _depths(links, parent_joint)
     except RobotFileError as exc:
         raise RobotFileError(f"{source}: {exc}") from exc
     for key, val in (("base", base), ("tip", tip)):
         if val is not None and val not in link_set:
-            raise RobotFileError(f"{source}: {key} link {val!r} is not defined; links are {links}")
+            raise RobotFileError(f"{source}: {key} link {val!r} is not defined; links are {_few(links)}")
     base = roots[0] if base is None else base
     if tip is None:
         parents = {j.parent for j in joints}
-        leaves = [n for n in links if n not in parents and n != base
-                  and base in [roots[0]] + [j.child for j in paths[n]]]
+        below = _below(links, parent_joint, base)
+        leaves = [n for n in links if n not in parents and n != base and below[n]]
         if not leaves:
             raise RobotFileError(f"{source}: no link below base link {base!r}")
-        tip = max(leaves, key=lambda n: len(paths[n]))  # first of the deepest
-    full = paths[tip]
+        tip = max(leaves, key=lambda n: depth[n])  # first of the deepest
+    full = _path_to_root(tip, parent_joint)
     start = next((k for k, j in enumerate(full) if j.parent == base), None)
     if start is None:
         raise RobotFileError(f"{source}: tip link {tip!r} is not below base link {base!r}")
@@ -547,7 +601,8 @@ def robot_from_urdf_string(text: str | bytes, *, base: str | None = None, tip: s
     return robot_from_chain(read_chain(text, base=base, tip=tip, source=source))
 
 
-def robot_from_urdf(path: PathLike, *, base: str | None = None, tip: str | None = None) -> Robot:
+def robot_from_urdf(path: PathLike, *, base: str | None = None, tip: str | None = None,
+                    max_bytes: int = MAX_ROBOT_FILE_BYTES) -> Robot:
     """Load a robot from a URDF file.
 
     Parameters
@@ -556,6 +611,8 @@ def robot_from_urdf(path: PathLike, *, base: str | None = None, tip: str | None 
         The ``.urdf`` file.
     base, tip : str, optional
         Links the chain runs from and to (default: the root link and the deepest leaf).
+    max_bytes : int
+        Largest file accepted (default :data:`ik7r.limits.MAX_ROBOT_FILE_BYTES`).
 
     Returns
     -------
@@ -573,4 +630,5 @@ def robot_from_urdf(path: PathLike, *, base: str | None = None, tip: str | None 
     """
     p = Path(path)
     # bytes, so that the XML declaration's encoding is honoured
-    return robot_from_urdf_string(p.read_bytes(), base=base, tip=tip, source=str(p))
+    return robot_from_urdf_string(read_bytes_limited(p, max_bytes, "robot file"), base=base, tip=tip,
+                                  source=str(p))

@@ -11,6 +11,12 @@ chosen spacing and speed, the timing, events).
 from __future__ import annotations
 
 from ..errors import CliError, NoSolution
+from ._common import finite_float
+
+#: Files ``ik7r paint mesh`` writes into ``--out`` (a new run removes those it does not write
+#: again); the reports are the manifest, published last.
+MESH_FILES = ("trajectory.csv", "thickness.csv", "thickness.png", "view.html", "gun_speed.png",
+              "joint_limits.png", "report.txt", "report.json")
 
 
 def add_mesh_parser(kinds, common) -> None:
@@ -29,32 +35,32 @@ def add_mesh_parser(kinds, common) -> None:
 
     add("part", metavar="PART",
         help="mesh file (.stl, .obj, .ply) or built-in part name (panel, hood)")
-    add("--frame", nargs=6, type=float, default=None, metavar=("X", "Y", "Z", "R", "P", "YAW"),
+    add("--frame", nargs=6, type=finite_float, default=None, metavar=("X", "Y", "Z", "R", "P", "YAW"),
         help="part frame in the base frame: position (length unit), rpy (deg); default for the "
              "built-in parts a place the robot reaches (paper robot: 1100 0 0 mm; IRB 5400: "
              "1600 0 500 mm), for a file the base frame")
     add("--part-unit", default=None, metavar="U", help="length unit of the mesh file "
         "(m, cm, mm, in; default the robot's)")
-    add("--direction", nargs=3, type=float, default=(1.0, 0.0, 0.0), metavar=("X", "Y", "Z"),
+    add("--direction", nargs=3, type=finite_float, default=(1.0, 0.0, 0.0), metavar=("X", "Y", "Z"),
         help="pass direction in the part frame (default 1 0 0)")
-    add("--view", nargs=3, type=float, default=(0.0, 0.0, 1.0), metavar=("X", "Y", "Z"),
+    add("--view", nargs=3, type=finite_float, default=(0.0, 0.0, 1.0), metavar=("X", "Y", "Z"),
         help="side of the part the gun sprays from, in the part frame (default 0 0 1)")
-    add("--spacing", type=float, default=None, metavar="D",
+    add("--spacing", type=finite_float, default=None, metavar="D",
         help="distance between passes (default: the largest multiple of 5 mm with a "
              "ripple <= 1 %%)")
-    add("--standoff", type=float, default=None, metavar="D",
+    add("--standoff", type=finite_float, default=None, metavar="D",
         help="gun tip to surface along the normal (default the gun's reference standoff)")
-    add("--overspray", type=float, default=None, metavar="D",
+    add("--overspray", type=finite_float, default=None, metavar="D",
         help="pass extension past the part's edges, spray on (default 60 mm)")
-    add("--approach", type=float, default=None, metavar="D",
+    add("--approach", type=finite_float, default=None, metavar="D",
         help="length of the approach and retract, spray off (default 150 mm)")
-    add("--spin", type=float, default=0.0, metavar="DEG",
+    add("--spin", type=finite_float, default=0.0, metavar="DEG",
         help="tool x turned about the gun axis from the direction of travel (deg, default 0)")
-    add("--speed", type=float, default=None, metavar="V",
+    add("--speed", type=finite_float, default=None, metavar="V",
         help="commanded gun speed (unit/s; default 500 mm/s, or chosen for --target-thickness)")
-    add("--target-thickness", type=float, default=None, metavar="UM",
+    add("--target-thickness", type=finite_float, default=None, metavar="UM",
         help="mean film wanted (um): the speed is chosen for it")
-    add("--tolerance-thickness", type=float, default=None, metavar="UM",
+    add("--tolerance-thickness", type=finite_float, default=None, metavar="UM",
         help="band around the target for the 'share within' statistic (um; default 10 %% of it)")
     add("--gun", default="bell", metavar="FILE|NAME",
         help="gun file (TOML) or built-in gun (bell, beta, fan; default bell)")
@@ -69,6 +75,7 @@ def run_mesh(args) -> int:
     import numpy as np
 
     from ... import painting as P
+    from ...outputs import OutputDir
     from ...painting import mesh as M
     from ...painting import view as W
     from ...painting.parts import BUILTIN_PARTS, load_part
@@ -105,27 +112,33 @@ def run_mesh(args) -> int:
             slow_down=args.slow_down, kind=args.spline, tolerance=args.tolerance, rate=args.rate,
             occlusion=not args.no_occlusion, progress=True)
     except P.PathNotFeasible as exc:
-        raise NoSolution(str(exc)) from exc
+        # the report of the failure only (an older run's outputs are removed): nothing that
+        # looks like a program
+        with OutputDir(args.out, manifest=("report.json", "report.txt"), owned=MESH_FILES) as stage:
+            (stage.path / "report.txt").write_text(f"part: {args.part}\n{exc}\n", encoding="utf-8")
+        raise NoSolution(f"(report in {stage.target / 'report.txt'}) {exc}") from exc
     except (FileNotFoundError, ValueError) as exc:
         raise CliError(str(exc)) from exc
-    out = FilePath(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    tr, path = result.program.trajectory, result.program.path
-    written = [M.write_trajectory_spray_csv(result.program.robot, tr, path, out / "trajectory.csv"),
-               W.write_thickness_csv(part, result.thickness, out / "thickness.csv")]
-    if not args.no_plots:
-        written.append(W.plot_thickness(part, result.thickness, out / "thickness.png", faces=result.faces,
-                                        direction=args.direction, view=args.view,
-                                        target=args.target_thickness, tolerance=result.stats.tolerance,
-                                        title=_title(part.name, result)))
-        written.append(W.write_view_html(out / "view.html", result.program.robot, part, result.thickness, tr,
-                                         path, faces=result.faces, postures=max(1, args.postures)))
-        written += timing_plots(result.program.robot, tr, out)
-    written += program_outputs(args, result.program.robot, path, tr)
-    report = result.report()
-    (out / "report.txt").write_text(report + "\n")
-    (out / "report.json").write_text(json.dumps(result.to_json(), indent=2) + "\n")
-    written += [out / "report.txt", out / "report.json"]
+    # every file through the stager: published when all are complete, the reports last
+    with OutputDir(args.out, manifest=("report.json", "report.txt"), owned=MESH_FILES) as stage:
+        out = stage.path
+        tr, path = result.program.trajectory, result.program.path
+        written = [M.write_trajectory_spray_csv(result.program.robot, tr, path, out / "trajectory.csv"),
+                   W.write_thickness_csv(part, result.thickness, out / "thickness.csv")]
+        if not args.no_plots:
+            written.append(W.plot_thickness(part, result.thickness, out / "thickness.png",
+                                            faces=result.faces, direction=args.direction, view=args.view,
+                                            target=args.target_thickness, tolerance=result.stats.tolerance,
+                                            title=_title(part.name, result)))
+            written.append(W.write_view_html(out / "view.html", result.program.robot, part, result.thickness,
+                                             tr, path, faces=result.faces, postures=max(1, args.postures)))
+            written += timing_plots(result.program.robot, tr, out)
+        report = result.report()
+        (out / "report.txt").write_text(report + "\n", encoding="utf-8")
+        (out / "report.json").write_text(json.dumps(result.to_json(), indent=2) + "\n", encoding="utf-8")
+        written += [out / "report.txt", out / "report.json"]
+        written = [stage.target / FilePath(w).name for w in written]
+        written += program_outputs(args, result.program.robot, path, tr)
     print(report)
     print("wrote " + ", ".join(str(w) for w in written))
     return 0

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import os
 import sys
 
+from ...limits import MAX_BENCH_POSES, MAX_POSES
 from ..errors import CliError
-from ._common import load_cli_robot
+from ._common import count, load_cli_robot
 
 
 def add_parser(sub) -> None:
@@ -17,9 +19,9 @@ def add_parser(sub) -> None:
                     "table with ratios and the machine it ran on. Every timed answer is checked "
                     "by forward kinematics.")
     p.add_argument("--quick", action="store_true", help="small sizes: a few seconds (CI)")
-    p.add_argument("--n", type=int, default=None, metavar="N",
+    p.add_argument("--n", type=count, default=None, metavar="N",
                    help="poses per batch and points of the trajectory (default 100000)")
-    p.add_argument("--big", type=int, default=0, metavar="N",
+    p.add_argument("--big", type=count, default=0, metavar="N",
                    help="also solve N random poses chunk by chunk (e.g. 10000000)")
     p.add_argument("--no-startup", action="store_true",
                    help="skip the fresh-process timings (numba import, ik7r ik end to end)")
@@ -39,6 +41,19 @@ def run(args) -> int:
         raise CliError(f"--n must be a positive number of poses; got {args.n}")
     if args.big < 0:
         raise CliError(f"--big must be a non-negative number of poses; got {args.big}")
+    if args.n is not None and args.n > MAX_BENCH_POSES:
+        raise CliError(f"--n {args.n} exceeds the limit of {MAX_BENCH_POSES:,} poses (memory); "
+                       "use --big for more poses solved chunk by chunk")
+    if args.big > MAX_POSES:
+        raise CliError(f"--big {args.big} exceeds the limit of {MAX_POSES:,} poses")
+    if args.json:  # fail before the benchmark, not after it
+        from pathlib import Path
+
+        from ...outputs import OutputError
+
+        parent = Path(args.json).parent
+        if Path(args.json).is_dir() or not parent.is_dir() or not os.access(parent, os.W_OK):
+            raise OutputError(13, f"cannot write {args.json}: not a writable place for a file")
     robot = load_cli_robot(args)
 
     def log(line: str) -> None:
@@ -48,9 +63,7 @@ def run(args) -> int:
                             startup=not args.no_startup, baselines=not args.no_baselines, log=log)
     print(report.format_markdown() if args.markdown else report.format_table())
     if args.json:
-        try:
-            with open(args.json, "w") as f:
-                json.dump(report.to_dict(), f, indent=2)
-        except OSError as exc:
-            raise CliError(f"cannot write {args.json}: {exc}") from exc
+        from ...outputs import write_text_atomic
+
+        write_text_atomic(args.json, json.dumps(report.to_dict(), indent=2))
     return 0 if report.failures == 0 else 1

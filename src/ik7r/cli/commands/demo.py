@@ -50,15 +50,14 @@ def run(args) -> int:
 def _quick_reproduction(out) -> int:
     from pathlib import Path
 
-    from ...progress import Progress
-    from ...reproduce import QUICK, plan_units, reproduce
+    from ...reproduce import QUICK
+    from .reproduce import reproduce_into
 
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise CliError(f"--out must be a directory; {out} is a file")
     print(f"\nQuick reproduction of the paper's tables and figures into {out}/ ...")
-    with Progress(plan_units(QUICK), "reproducing the paper (quick)") as bar:
-        result = reproduce(out, plan=QUICK, progress=bar)
+    result = reproduce_into(out, QUICK, "reproducing the paper (quick)")
     t5 = result.table5[0]
     t3 = result.table3
     print(f"Table 5 (random targets): the paper's method {t5.paper_solved}/{t5.attempts} solved, max error "

@@ -37,9 +37,7 @@ def run(args) -> int:
     if args.out is None:
         print(text, end="")
         return 0
-    try:
-        with open(args.out, "w") as fh:
-            fh.write(text)
-    except OSError as exc:
-        raise CliError(f"cannot write {args.out}: {exc.strerror}") from exc
+    from ...outputs import write_text_atomic
+
+    write_text_atomic(args.out, text)  # complete or absent (OutputError: exit 2, one line)
     return 0

@@ -5,21 +5,22 @@ from __future__ import annotations
 import numpy as np
 
 from ...geometry.rotations import matrix_to_rpy
-from ._common import load_cli_robot, print_json
+from ._common import load_cli_robot, numbers, print_json
 
 
 def add_parser(sub) -> None:
     p = sub.add_parser("fk", help="forward kinematics: joints (deg) -> tool pose",
                        description="Forward kinematics of the independent joints [q1 q2 q3 q4 q5 q7] "
                                    "in degrees (q6 = -q5).")
-    p.add_argument("q", nargs=6, type=float, metavar="Q", help="joint angles in degrees")
+    p.add_argument("q", nargs="*", metavar="Q", help="the 6 joint angles q1 q2 q3 q4 q5 q7 in degrees")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
+    q = numbers(args.q, 6, "joint values (q1 q2 q3 q4 q5 q7, deg)")
     robot = load_cli_robot(args)
-    T = robot.fk(np.radians(args.q))
+    T = robot.fk(np.radians(q))
     rpy = np.degrees(matrix_to_rpy(T[:3, :3]))
     if args.json:
         print_json({"robot": robot.name, "unit": robot.unit, "matrix": T.tolist(),

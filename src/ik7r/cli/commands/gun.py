@@ -9,6 +9,7 @@ fitted parameters and the fit's residual. Exit status 2 on bad input.
 from __future__ import annotations
 
 from ..errors import CliError
+from ._common import finite_float
 
 
 def add_parser(sub) -> None:
@@ -22,13 +23,14 @@ def add_parser(sub) -> None:
     f.add_argument("stripe", metavar="STRIPE.csv", help="measured stripe: offset, thickness_um")
     f.add_argument("--model", required=True, choices=("gaussian", "beta", "double-beta"),
                    help="the gun model")
-    f.add_argument("--speed", type=float, required=True, metavar="V", help="stroke speed (unit/s)")
-    f.add_argument("--standoff", type=float, required=True, metavar="D", help="standoff of the stroke (unit)")
+    f.add_argument("--speed", type=finite_float, required=True, metavar="V", help="stroke speed (unit/s)")
+    f.add_argument("--standoff", type=finite_float, required=True, metavar="D",
+                   help="standoff of the stroke (unit)")
     f.add_argument("--unit", default="mm", metavar="U",
                    help="length unit of offset, speed, standoff (default mm)")
-    f.add_argument("--b", type=float, default=None, metavar="D",
+    f.add_argument("--b", type=finite_float, default=None, metavar="D",
                    help="double-beta: the fan's half-length along the travel (a stripe cannot tell it)")
-    f.add_argument("--beta2", type=float, default=None, metavar="B",
+    f.add_argument("--beta2", type=finite_float, default=None, metavar="B",
                    help="double-beta: the exponent along the travel (a stripe cannot tell it)")
     f.add_argument("--name", default=None, help="gun name in the file (default the stripe file's stem)")
     f.add_argument("--out", default=None, metavar="FILE.toml", help="gun file to write (default STRIPE.toml)")
@@ -56,7 +58,9 @@ def run_fit(args) -> int:
     comment = (f"fitted by ik7r gun fit to {src.name} (speed {args.speed:g} {args.unit}/s, standoff "
                f"{args.standoff:g} {args.unit}): residual rms {fit.rms:.4g} um "
                f"({100 * fit.rms_relative:.3g} % of the peak), max {fit.max_abs:.4g} um")
-    out.write_text(gun_to_toml(fit.gun, comment=comment))
+    from ...outputs import write_text_atomic
+
+    write_text_atomic(out, gun_to_toml(fit.gun, comment=comment))
     print(fit.report())
     print(f"wrote {out}")
     return 0

@@ -5,7 +5,14 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import CliError, NoSolution
-from ._common import add_pose_arguments, fmt_deg, load_cli_robot, pose_from_args, print_json
+from ._common import (
+    add_pose_arguments,
+    finite_float,
+    fmt_deg,
+    load_cli_robot,
+    pose_from_args,
+    print_json,
+)
 
 
 def add_parser(sub) -> None:
@@ -17,7 +24,7 @@ def add_parser(sub) -> None:
     g.add_argument("--config", type=int, default=None, metavar="N",
                    help="configuration 1..8 (the paper's Appendix 3; default 1)")
     g.add_argument("--all", action="store_true", help="every solution")
-    p.add_argument("--seed", nargs=6, type=float, metavar="Q",
+    p.add_argument("--seed", nargs=6, type=finite_float, metavar="Q",
                    help="joints (deg) choosing among solutions sharing a configuration")
     p.add_argument("--within-limits", action="store_true", help="only solutions inside the joint limits")
     p.add_argument("--json", action="store_true", help="print JSON")
@@ -30,19 +37,25 @@ def run(args) -> int:
     robot = load_cli_robot(args)
     T = pose_from_args(args)
     seed = None if args.seed is None else np.radians(args.seed)
-    if args.all:
-        sols = robot.ik_all(T, within_limits=args.within_limits, seed=seed)
-        if len(sols) == 0:
-            limits = " within the joint limits" if args.within_limits else ""
-            raise NoSolution(f"the pose has no solution{limits}")
-    else:
-        config = 1 if args.config is None else args.config
-        if not 1 <= config <= 8:
-            raise CliError(f"--config must be 1..8; got {config}")
-        try:
-            sols = robot.ik(T, config, seed=seed, within_limits=args.within_limits)[None]
-        except UnreachableError as exc:
-            raise NoSolution(str(exc)) from exc
+    try:
+        if args.all:
+            sols = robot.ik_all(T, within_limits=args.within_limits, seed=seed)
+            if len(sols) == 0:
+                limits = " within the joint limits" if args.within_limits else ""
+                raise NoSolution(f"the pose has no solution{limits}")
+        else:
+            config = 1 if args.config is None else args.config
+            if not 1 <= config <= 8:
+                raise CliError(f"--config must be 1..8; got {config}")
+            try:
+                sols = robot.ik(T, config, seed=seed, within_limits=args.within_limits)[None]
+            except UnreachableError as exc:
+                raise NoSolution(str(exc)) from exc
+    except NoSolution as exc:
+        if args.json:  # valid JSON on stdout in any case: no solution is an empty list
+            print_json({"robot": robot.name, "unit": robot.unit, "solutions": [], "reason": str(exc)})
+            args._json_done = True
+        raise
     configs = robot.config_of(sols)
     fk = robot.fk(sols)
     err = np.linalg.norm(fk[:, :3, 3] - T[:3, 3], axis=1)

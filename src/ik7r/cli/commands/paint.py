@@ -12,42 +12,50 @@ trajectory follows the path (the report says which samples and why), 2 on bad in
 
 from __future__ import annotations
 
+from pathlib import Path
+
+from ...limits import MAX_FRAMES, MAX_PATH_SAMPLES, MAX_TRAJECTORY_ROWS
 from ..errors import CliError, NoSolution
-from ._common import load_cli_robot
+from ._common import count, finite_float, load_cli_robot
+
+#: Files ``ik7r paint`` writes into ``--out`` (a new run removes those it does not write again);
+#: ``report.txt`` is the manifest, published last.
+PAINT_FILES = ("trajectory.csv", "report.txt", "figure12.png", "gun_speed.png", "joint_limits.png",
+               "path3d.png", "animation.gif", "animation.html")
 
 
 def _common(p) -> None:
     g = p.add_argument_group("program")
-    g.add_argument("--speed", type=float, default=None, metavar="V",
+    g.add_argument("--speed", type=finite_float, default=None, metavar="V",
                    help="commanded gun speed where the spray is on (length unit per s); the rest of "
                         "the path is timed as fast as the joint limits allow")
     g.add_argument("--slow-down", action="store_true",
                    help="with --speed: where the commanded speed would break a joint limit, slow the "
                         "stroke there (reported) instead of failing")
-    g.add_argument("--duration", type=float, default=None, metavar="S",
+    g.add_argument("--duration", type=finite_float, default=None, metavar="S",
                    help="without --speed: time for the whole path in seconds (default 20, the paper's)")
-    g.add_argument("--zone", type=float, default=None, metavar="D",
+    g.add_argument("--zone", type=finite_float, default=None, metavar="D",
                    help="blend sharp corners of a loaded path within this radius (length unit; RAPID "
                         "zone data); default: stop at them")
-    g.add_argument("--config", type=int, default=1, metavar="N",
+    g.add_argument("--config", type=count, default=1, metavar="N",
                    help="configuration 1..8 (the paper's Appendix 3; default 1)")
     g.add_argument("--keep", choices=("config", "branch"), default="config",
                    help="when the continuous solution leaves the configuration (theta5 crossing 0): "
                         "'config' reports a branch change (default), 'branch' stays continuous and "
                         "reports the crossing")
-    g.add_argument("--tool", nargs=6, type=float, metavar=("X", "Y", "Z", "R", "P", "YAW"),
+    g.add_argument("--tool", nargs=6, type=finite_float, metavar=("X", "Y", "Z", "R", "P", "YAW"),
                    help="spray-gun TCP in frame 7: position (length unit) and roll-pitch-yaw (deg); "
                         "default the robot file's tool (none for the paper robot: frame 7)")
-    g.add_argument("--seed", nargs=6, type=float, metavar="Q",
+    g.add_argument("--seed", nargs=6, type=finite_float, metavar="Q",
                    help="joints (deg) the first sample's solution is nearest to")
-    g.add_argument("--ramp", type=float, default=1.0, metavar="S",
+    g.add_argument("--ramp", type=finite_float, default=1.0, metavar="S",
                    help="with --duration: duration of the speed ramps at start, end and corner stops "
                         "(s, default 1)")
     g.add_argument("--spline", choices=("quintic", "cubic"), default="quintic",
                    help="joint-space spline (default quintic)")
-    g.add_argument("--tolerance", type=float, default=None, metavar="D",
+    g.add_argument("--tolerance", type=finite_float, default=None, metavar="D",
                    help="largest deviation of the tool from the path (length unit; default 0.01 mm)")
-    g.add_argument("--rate", type=float, default=100.0, metavar="HZ",
+    g.add_argument("--rate", type=finite_float, default=100.0, metavar="HZ",
                    help="rows per second in trajectory.csv (default 100)")
     g.add_argument("--rescale", action="store_true",
                    help="stretch the time to respect the joint speed and acceleration limits "
@@ -56,17 +64,24 @@ def _common(p) -> None:
     o.add_argument("--out", default="ik7r-paint", metavar="DIR", help="output directory (default ik7r-paint)")
     o.add_argument("--no-plots", action="store_true", help="write no figures (and no animation)")
     o.add_argument("--no-animation", action="store_true", help="write no animation")
-    o.add_argument("--frames", type=int, default=60, metavar="N",
+    o.add_argument("--frames", type=count, default=60, metavar="N",
                    help="animation frames, spread evenly over the duration (default 60; fewer is faster)")
     o.add_argument("--animation-format", choices=("gif", "html"), default="gif",
                    help="animated GIF or a self-contained HTML page (default gif)")
-    o.add_argument("--postures", type=int, default=5, metavar="N", help="robot postures in path3d.png")
+    o.add_argument("--postures", type=count, default=5, metavar="N",
+                   help="robot postures in path3d.png (default 5, at most 100)")
     o.add_argument("--rapid", default=None, metavar="FILE.mod",
                    help="also write the program as an ABB RAPID module (jointtargets, MoveAbsJ \\T)")
     o.add_argument("--program", default=None, metavar="FILE.json",
                    help="also write the program as JSON (targets in rad and deg, times, spray flags)")
     o.add_argument("--signal", default="doGunOn", metavar="NAME",
                    help="RAPID digital output that switches the gun (default doGunOn)")
+    w = p.add_argument_group("work limits")
+    w.add_argument("--max-samples", type=count, default=MAX_PATH_SAMPLES, metavar="N",
+                   help=f"refuse paths of more samples (default {MAX_PATH_SAMPLES:,})")
+    w.add_argument("--max-rows", type=count, default=MAX_TRAJECTORY_ROWS, metavar="N",
+                   help="refuse trajectories of more rows, duration x rate "
+                        f"(default {MAX_TRAJECTORY_ROWS:,})")
 
 
 def add_parser(sub) -> None:
@@ -80,19 +95,19 @@ def add_parser(sub) -> None:
                                      "workpiece frame, constant gun orientation (x along the "
                                      "workpiece's x, y and z opposite). Defaults: the paper's "
                                      "Simulation 3 on the paper robot.")
-    r.add_argument("--origin", nargs=3, type=float, default=None, metavar=("X", "Y", "Z"),
+    r.add_argument("--origin", nargs=3, type=finite_float, default=None, metavar=("X", "Y", "Z"),
                    help="centre of the rectangle in the base frame (length unit; default 1100 0 200)")
-    r.add_argument("--rpy", nargs=3, type=float, default=(0.0, 0.0, 0.0), metavar=("R", "P", "Y"),
+    r.add_argument("--rpy", nargs=3, type=finite_float, default=(0.0, 0.0, 0.0), metavar=("R", "P", "Y"),
                    help="workpiece frame orientation in the base frame (deg; default 0 0 0)")
-    r.add_argument("--size", nargs=2, type=float, default=None, metavar=("W", "H"),
+    r.add_argument("--size", nargs=2, type=finite_float, default=None, metavar=("W", "H"),
                    help="rectangle size along the workpiece x (passes) and y (default 600 800)")
-    r.add_argument("--spacing", type=float, default=None, metavar="D",
+    r.add_argument("--spacing", type=finite_float, default=None, metavar="D",
                    help="largest distance between passes (default 100)")
-    r.add_argument("--margin", type=float, default=0.0, metavar="D",
+    r.add_argument("--margin", type=finite_float, default=0.0, metavar="D",
                    help="overrun of each pass beyond the rectangle (default 0)")
-    r.add_argument("--standoff", type=float, default=0.0, metavar="D",
+    r.add_argument("--standoff", type=finite_float, default=0.0, metavar="D",
                    help="gun tip distance above the surface (default 0)")
-    r.add_argument("--step", type=float, default=None, metavar="D",
+    r.add_argument("--step", type=finite_float, default=None, metavar="D",
                    help="largest distance between path samples (default 5)")
     _common(r)
     r.set_defaults(run=run)
@@ -102,10 +117,11 @@ def add_parser(sub) -> None:
                                      "workpiece frame placed by --frame. Without orientation columns the gun "
                                      "points along -z of the workpiece (x along its x).")
     f.add_argument("file", metavar="FILE.csv", help="the path")
-    f.add_argument("--frame", nargs=6, type=float, default=None, metavar=("X", "Y", "Z", "R", "P", "YAW"),
+    f.add_argument("--frame", nargs=6, type=finite_float, default=None,
+                   metavar=("X", "Y", "Z", "R", "P", "YAW"),
                    help="workpiece frame in the base frame: position (length unit), rpy (deg); "
                         "default the base frame")
-    f.add_argument("--rotation-radius", type=float, default=100.0, metavar="D",
+    f.add_argument("--rotation-radius", type=finite_float, default=100.0, metavar="D",
                    help="length per radian of orientation change in the path timing (default 100)")
     _common(f)
     f.set_defaults(run=run)
@@ -129,27 +145,34 @@ def _pose(vals):
 
 
 def run(args) -> int:
-    from pathlib import Path as FilePath
-
     import numpy as np
 
     from ... import painting as P
+    from ...limits import check_work, raised, rows_estimate
+    from ...outputs import OutputDir
 
     robot = load_cli_robot(args)
     if not 1 <= args.config <= 8:
         raise CliError(f"--config must be 1..8; got {args.config}")
-    if args.frames < 2:
-        raise CliError(f"--frames must be at least 2; got {args.frames}")
+    if not 2 <= args.frames <= MAX_FRAMES:
+        raise CliError(f"--frames must be 2..{MAX_FRAMES}; got {args.frames}")
+    if args.postures > 100:
+        raise CliError(f"--postures must be at most 100; got {args.postures}")
     if args.speed is not None and args.duration is not None:
         raise CliError("give --speed (the process speed) or --duration, not both")
     if args.slow_down and args.speed is None:
         raise CliError("--slow-down needs --speed")
-    for name in ("speed", "duration", "zone"):
+    for name in ("speed", "duration", "zone", "rate"):
         v = getattr(args, name)
         if v is not None and not (np.isfinite(v) and v > 0):
             raise CliError(f"--{name} must be a positive number; got {v}")
     check_program_args(args)
     try:
+        if args.duration is not None or args.speed is None:  # the rows, estimated before any work
+            duration = 20.0 if args.duration is None else args.duration
+            check_work(f"trajectory rows ({duration:g} s at {args.rate:g} Hz)",
+                       rows_estimate(duration, args.rate), args.max_rows,
+                       "--max-rows, or fewer rows with --rate")
         if args.paint_kind == "raster":
             path = P.raster_path(
                 P.workpiece_frame(P.DEFAULT_ORIGIN if args.origin is None else args.origin,
@@ -157,43 +180,51 @@ def run(args) -> int:
                 size=P.DEFAULT_SIZE if args.size is None else args.size,
                 spacing=P.DEFAULT_SPACING if args.spacing is None else args.spacing,
                 margin=args.margin, standoff=args.standoff,
-                step=P.DEFAULT_STEP if args.step is None else args.step)
+                step=P.DEFAULT_STEP if args.step is None else args.step, max_samples=args.max_samples)
         else:
             frame = None if args.frame is None else _pose(args.frame)
-            path = P.load_path_csv(args.file, frame, rotation_radius=args.rotation_radius)
-    except FileNotFoundError as exc:
-        raise CliError(str(exc)) from exc
-    except ValueError as exc:
+            path = P.load_path_csv(args.file, frame, rotation_radius=args.rotation_radius,
+                                   max_samples=args.max_samples)
+        check_work("path samples", len(path), args.max_samples, "--max-samples")
+    except (FileNotFoundError, ValueError) as exc:
         raise CliError(str(exc)) from exc
     tool = None if args.tool is None else _pose(args.tool)
     seed = None if args.seed is None else np.radians(args.seed)
-    out = FilePath(args.out)
-    try:
-        result = P.paint_path(robot, path, duration=args.duration, speed=args.speed, slow_down=args.slow_down,
-                              zone=args.zone, config=args.config, seed=seed, tool=tool,
-                              keep=args.keep, ramp=args.ramp, kind=args.spline, tolerance=args.tolerance,
-                              rate=args.rate, rescale=args.rescale, progress=True)
-    except P.PathNotFeasible as exc:
-        out.mkdir(parents=True, exist_ok=True)
-        (out / "report.txt").write_text(f"path: {path.name}; {len(path)} samples\n{exc}\n")
-        raise NoSolution(str(exc)) from exc
-    except ValueError as exc:
-        raise CliError(str(exc)) from exc
-    out.mkdir(parents=True, exist_ok=True)
-    written = [P.write_trajectory_csv(result.robot, result.trajectory, out / "trajectory.csv")]
-    report = result.report()
-    (out / "report.txt").write_text(report + "\n")
-    written.append(out / "report.txt")
-    if not args.no_plots:
-        written.append(P.plot_joint_trajectory(result.trajectory, out / "figure12.png", robot=result.robot))
-        written += timing_plots(result.robot, result.trajectory, out)
-        written.append(P.plot_path_3d(result.robot, result.trajectory, out / "path3d.png",
-                                      postures=max(1, args.postures)))
-        if not args.no_animation:
-            name = "animation.gif" if args.animation_format == "gif" else "animation.html"
-            written.append(P.animate_painting(result.robot, result.trajectory, out / name,
-                                              frames=args.frames))
-    written += program_outputs(args, result.robot, result.path, result.trajectory)
+    # every file goes through the stager: staged, published when complete, report.txt last
+    with OutputDir(args.out, manifest="report.txt", owned=PAINT_FILES) as stage:
+        out = stage.path
+        try:
+            with raised(MAX_TRAJECTORY_ROWS=args.max_rows):
+                result = P.paint_path(robot, path, duration=args.duration, speed=args.speed,
+                                      slow_down=args.slow_down, zone=args.zone, config=args.config,
+                                      seed=seed, tool=tool, keep=args.keep, ramp=args.ramp,
+                                      kind=args.spline, tolerance=args.tolerance, rate=args.rate,
+                                      rescale=args.rescale, progress=True)
+        except P.PathNotFeasible as exc:
+            # the report of the failure only (older trajectories are removed): nothing that
+            # looks like a program
+            (out / "report.txt").write_text(f"path: {path.name}; {len(path)} samples\n{exc}\n",
+                                            encoding="utf-8")
+            stage.publish()
+            raise NoSolution(f"(report in {stage.target / 'report.txt'}) {exc}") from exc
+        except ValueError as exc:
+            raise CliError(str(exc)) from exc
+        written = [P.write_trajectory_csv(result.robot, result.trajectory, out / "trajectory.csv")]
+        if not args.no_plots:
+            written.append(P.plot_joint_trajectory(result.trajectory, out / "figure12.png",
+                                                   robot=result.robot))
+            written += timing_plots(result.robot, result.trajectory, out)
+            written.append(P.plot_path_3d(result.robot, result.trajectory, out / "path3d.png",
+                                          postures=max(1, args.postures)))
+            if not args.no_animation:
+                name = "animation.gif" if args.animation_format == "gif" else "animation.html"
+                written.append(P.animate_painting(result.robot, result.trajectory, out / name,
+                                                  frames=args.frames))
+        report = result.report()
+        (out / "report.txt").write_text(report + "\n", encoding="utf-8")
+        written.append(out / "report.txt")
+        written = [stage.target / Path(w).name for w in written]
+        written += program_outputs(args, result.robot, result.path, result.trajectory)
     print(report)
     print("wrote " + ", ".join(str(w) for w in written))
     return 0
@@ -230,9 +261,12 @@ def program_outputs(args, robot, path, trajectory) -> list:
     if args.rapid is None and args.program is None:
         return []
     program = P.make_program(robot, path, trajectory, signal=args.signal, zone=args.zone)
+    from ...outputs import atomic_path
+
     written = []
-    if args.rapid is not None:
-        written.append(P.write_rapid(program, args.rapid))
-    if args.program is not None:
-        written.append(P.write_program_json(program, args.program))
+    for f, write in ((args.rapid, P.write_rapid), (args.program, P.write_program_json)):
+        if f is not None:  # each complete or absent
+            with atomic_path(f) as tmp:
+                write(program, tmp)
+            written.append(Path(f))
     return written
