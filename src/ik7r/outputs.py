@@ -152,7 +152,8 @@ def atomic_file(path, mode: str = "w", **open_kw) -> Iterator:
     done = False
     try:
         try:
-            with os.fdopen(fd, mode, **open_kw) as fh:
+            os.close(fd)  # reopened by name, so that ``fh.name`` is the temporary path
+            with open(tmp, mode, **open_kw) as fh:
                 yield fh
                 if not fh.closed:
                     fh.flush()

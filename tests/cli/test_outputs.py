@@ -46,6 +46,20 @@ def _umask() -> int:
     return m
 
 
+def test_atomic_path_gives_a_writer_a_file_name_and_publishes_it(tmp_path):
+    target = tmp_path / "program.mod"
+    with outputs.atomic_path(target) as tmp:
+        assert isinstance(tmp, Path) and tmp.parent == tmp_path and tmp != target
+        tmp.write_text("MODULE m\nENDMODULE\n")  # a writer that opens the name itself
+        assert not target.exists()
+    assert target.read_text() == "MODULE m\nENDMODULE\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["program.mod"]
+    with pytest.raises(RuntimeError), outputs.atomic_path(tmp_path / "other.mod") as tmp:
+        tmp.write_text("half")
+        raise RuntimeError("writer failed")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["program.mod"]
+
+
 def test_output_dir_publishes_the_manifest_last(tmp_path, monkeypatch):
     order = []
     real = os.replace
