@@ -58,8 +58,8 @@ def check_work(what: str, size: float, limit: int, raise_with: str) -> None:
     >>> check_work("path samples", 8e11, MAX_PATH_SAMPLES, "--max-samples")
     Traceback (most recent call last):
     ...
-    ik7r.limits.WorkLimitError: 8e+11 path samples exceed the limit of 1,000,000 (raise it with --max-samples)
-    """
+    ik7r.limits.WorkLimitError: 800,000,000,000 path samples exceed the limit of 1,000,000 (raise it with --max-samples)
+    """  # noqa: E501 (a message is one line)
     if not size <= limit:  # NaN counts as too big
         integral = isinstance(size, int) or (isinstance(size, float) and size.is_integer())
         shown = f"{int(size):,}" if integral and size < 1e15 else f"{float(size):.3g}"
