@@ -153,14 +153,16 @@ def _why_unreachable(robot, T, config: int, seed) -> tuple[str, str, str]:
     inside = robot.ik_all(T, within_limits=True, seed=seed)
     others = sorted(set(int(c) for c in robot.config_of(inside))) if len(inside) else []
     # the configuration's solution with the fewest joints out of range, and by how much
-    best, best_key = None, None
+    best: tuple[np.ndarray, np.ndarray] | None = None
+    best_key: tuple[int, float] | None = None
     for q in mine:
         bad = ~_in_range_by_turns(robot, q)
         excess = np.where(bad, np.minimum(np.abs(wrap_angle(q - robot.upper)),
                                           np.abs(wrap_angle(robot.lower - q))), 0.0)
         key = (int(bad.sum()), float(excess.sum()))
-        if best_key is None or key < best_key:
+        if best is None or best_key is None or key < best_key:
             best, best_key = (q, bad), key
+    assert best is not None  # mine is not empty
     q, bad = best
     parts = [f"{JOINT_LABELS[j]} = {math.degrees(q[j]):.3f} deg outside [{math.degrees(robot.lower[j]):.0f}, "
              f"{math.degrees(robot.upper[j]):.0f}] deg" for j in np.flatnonzero(bad)]
@@ -169,8 +171,14 @@ def _why_unreachable(robot, T, config: int, seed) -> tuple[str, str, str]:
     return "limits", f"outside the joint limits in configuration {config}", ", ".join(parts) + tail
 
 
+def _sample_position(path: Path, i: int) -> tuple[float, float, float]:
+    """The position of sample ``i`` (length unit), for an event."""
+    x, y, z = (float(v) for v in path.positions[i])
+    return x, y, z
+
+
 def _group_unreachable(unreach: dict, path: Path, unit: str) -> list[tuple[int, PathEvent]]:
-    out = []
+    out: list[tuple[int, PathEvent]] = []
     idx = sorted(unreach)
     start = 0
     while start < len(idx):
@@ -186,8 +194,7 @@ def _group_unreachable(unreach: dict, path: Path, unit: str) -> list[tuple[int, 
             if last != first and unreach[last][2] != detail:
                 reason += f"; sample {last}: {unreach[last][2]}"
             reason += ")"
-        pos = tuple(float(v) for v in path.positions[first])
-        out.append((first, Unreachable(first, last, reason, pos, unit)))
+        out.append((first, Unreachable(first, last, reason, _sample_position(path, first), unit)))
         start = end + 1
     return out
 
@@ -198,7 +205,7 @@ def _near_singular(q: np.ndarray, ok: np.ndarray, margin: float) -> list[tuple[i
     dist = np.full(len(q), np.inf)
     dist[ok] = wrist_singularity_distance(q[ok, 4])
     near = dist < margin
-    out = []
+    out: list[tuple[int, PathEvent]] = []
     i = 0
     while i < len(q):
         if near[i]:
@@ -266,8 +273,8 @@ def solve_path(robot: Robot, path: Path, config: Config = 1, seed: ArrayLike | N
     tagged: list[tuple[int, PathEvent]] = []
     unreach: dict[int, tuple[str, str, str]] = {}
 
-    def pos(i: int) -> tuple[float, ...]:
-        return tuple(float(v) for v in path.positions[i])
+    def pos(i: int) -> tuple[float, float, float]:
+        return _sample_position(path, i)
 
     def crossing(i: int, prev: np.ndarray, cont: np.ndarray) -> None:
         """The events of the continuous branch from ``prev`` (row i - 1) to ``cont`` (row i)."""
