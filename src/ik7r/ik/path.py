@@ -272,7 +272,7 @@ def ik_path(robot: Robot, T: ArrayLike, config: Config = 1, *, seed: ArrayLike |
         path the poses ``T`` sample (``T[i] = pose_at(u[i])``): the branch follower bisects a
         large joint step along it. Needs ``u``.
     u : array_like, shape (N,), optional
-        The path parameter of each pose (increasing); with ``pose_at``.
+        The path parameter of each pose, in path order; with ``pose_at``.
     max_depth : int
         Most bisections of one step (branch follower with ``pose_at``): at most
         ``2**max_depth`` sub-steps.
