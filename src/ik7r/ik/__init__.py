@@ -19,7 +19,9 @@ _EXPORTS = {
     "num_threads": "solve",
     "threads_for": "solve",
     "PathIK": "path",
+    "Lost": "path",
     "ik_path": "path",
+    "follow": "path",
     "ChunkResult": "chunked",
     "FromJoints": "chunked",
     "RandomPoses": "chunked",
@@ -47,7 +49,7 @@ if TYPE_CHECKING:  # the names, for type checkers and IDEs
     )
     from .numeric import NumericResult, damped_least_squares, manipulability, newton_raphson
     from .paper import PaperResult, ik_paper
-    from .path import PathIK, ik_path
+    from .path import Lost, PathIK, follow, ik_path
     from .solve import (
         MAX_SOLUTIONS,
         MAX_WITHIN_LIMITS_ROWS,
@@ -65,6 +67,7 @@ __all__ = [
     "ChunkResult",
     "DEFAULT_CHUNK",
     "FromJoints",
+    "Lost",
     "MAX_SOLUTIONS",
     "MAX_WITHIN_LIMITS_ROWS",
     "NumericResult",
@@ -72,6 +75,7 @@ __all__ = [
     "PathIK",
     "RandomPoses",
     "damped_least_squares",
+    "follow",
     "ik",
     "ik_all",
     "ik_all_batch",

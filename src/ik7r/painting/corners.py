@@ -13,10 +13,14 @@ exact geometry (``Path.at`` on the lines and arcs), so the trajectory follows th
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .paths import Path, _rotvecs
+
+if TYPE_CHECKING:
+    from .._typing import ArrayLike
 
 __all__ = ["find_corners", "blend_corners", "DEFAULT_CORNER_ANGLE"]
 
@@ -90,7 +94,7 @@ def blend_corners(path: Path, zone: float, angle: float = DEFAULT_CORNER_ANGLE, 
 
     # pieces: ("line", p0, p1, R0, R1, flag) or ("arc", centre, e1, e2, r, phi, R0, R1, flag), with
     # the spray flag of the piece's first sample
-    pieces = []
+    pieces: list[tuple[Any, ...]] = []
     cur = (P[0], R[0], bool(spray[0]))
     i = 1
     for c, k in enumerate(idx):
@@ -156,7 +160,8 @@ def blend_corners(path: Path, zone: float, angle: float = DEFAULT_CORNER_ANGLE, 
             rot[m] = slerps[j](f[m]).as_matrix()
         return pos, rot
 
-    us, flags = [], []
+    us: list[ArrayLike] = []
+    flags: list[ArrayLike] = []
     for j, p in enumerate(pieces):
         if p[0] == "line":
             n = 1

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 from ..errors import UnreachableError
+from ..robot.model import JOINT_LABELS
 
 __all__ = [
     "JOINT_LABELS",
@@ -37,9 +38,6 @@ __all__ = [
     "PathNotFeasible",
     "format_report",
 ]
-
-#: Names of the independent joints, as printed in reports.
-JOINT_LABELS = ("q1", "q2", "q3", "q4", "q5", "q7")
 
 
 def _deg(x: float) -> str:

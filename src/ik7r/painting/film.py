@@ -229,7 +229,7 @@ class FilmStats:
         out = [f"film over the painted area ({self.area:.6g} {unit}^2): mean {self.mean:.2f} um, "
                f"std/mean {100 * self.uniformity:.1f} %, min {self.minimum:.2f} um, "
                f"max {self.maximum:.2f} um"]
-        if self.target is not None:
+        if self.target is not None and self.tolerance is not None and self.within is not None:
             out.append(f"within {self.target:g} +- {self.tolerance:g} um: {100 * self.within:.1f} % "
                        f"of the area")
         return out

@@ -24,7 +24,7 @@ instants, so the CSV and the figures show the peaks the report states.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Literal
 
 if TYPE_CHECKING:
     from .._typing import ArrayLike
@@ -102,6 +102,9 @@ class Timing:
     duration: float
     ramp: float
     stops: tuple = ()
+    # derived in __post_init__: per piece (bounds, L, tau, D, t0, V), and the cruise speed
+    _pieces: tuple = field(init=False, repr=False, compare=False)
+    _speed: float = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         for name in ("length", "duration", "ramp"):
@@ -201,6 +204,9 @@ class ProfileTiming:
 
     grid: np.ndarray
     x: np.ndarray
+    #: derived in __post_init__: the time at every grid point, the path acceleration per interval
+    times: np.ndarray = field(init=False, repr=False)
+    accel: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         from .topp import profile_times
@@ -289,6 +295,10 @@ class JointPath:
     knot_q: np.ndarray
     stops: tuple
     kind: str
+    # derived in __post_init__: the pieces' bounds, splines and their derivatives
+    _bounds: np.ndarray = field(init=False, repr=False)
+    _pieces: list = field(init=False, repr=False)
+    _derivs: list = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         bounds = np.concatenate([[self.knot_u[0]], self.stops, [self.knot_u[-1]]])
@@ -302,7 +312,7 @@ class JointPath:
         object.__setattr__(self, "_derivs", [[p.derivative(n) if n else p for n in range(min(3, p.k + 1))]
                                              for p in pieces])
 
-    def evaluate(self, u, order: int = 0, side: str = "right") -> np.ndarray:
+    def evaluate(self, u, order: int = 0, side: Literal["left", "right"] = "right") -> np.ndarray:
         """``Q``, ``Q'`` or ``Q''`` (order 0, 1, 2) at ``u`` (M,) -> (M, 6); at a stop the piece
         on ``side``."""
         u = np.atleast_1d(np.asarray(u, dtype=float))
@@ -401,7 +411,7 @@ def joint_motion(jp: JointPath, timing, t) -> tuple[np.ndarray, np.ndarray, np.n
     return u, d0, d1 * ud[:, None], d2 * (ud ** 2)[:, None] + d1 * np.broadcast_to(udd, ud.shape)[:, None]
 
 
-def _check_times(jp: JointPath, timing, per: int = 8) -> np.ndarray:
+def _check_times(jp: JointPath, timing, per: int = 8) -> tuple[np.ndarray, np.ndarray]:
     D = timing.duration
     T = np.unique(np.clip(np.concatenate([timing.breakpoints(), timing.t_of_u(jp.knot_u), [0.0, D]]), 0.0, D))
     eps = 1e-9 * max(1.0, D)
@@ -522,7 +532,7 @@ class Trajectory:
     positions: np.ndarray
     u: np.ndarray
     duration: float
-    timing: object
+    timing: Timing | ProfileTiming
     knot_t: np.ndarray
     knot_u: np.ndarray
     knot_q: np.ndarray
@@ -532,16 +542,16 @@ class Trajectory:
     speed_ratio: np.ndarray
     acceleration_ratio: np.ndarray
     kind: str
-    joint_path: JointPath = field(repr=False, default=None)
-    speed_peak: np.ndarray = field(repr=False, default=None)
-    speed_peak_t: np.ndarray = field(repr=False, default=None)
-    acceleration_peak: np.ndarray = field(repr=False, default=None)
-    acceleration_peak_t: np.ndarray = field(repr=False, default=None)
-    spray: np.ndarray = field(repr=False, default=None)
-    gun_speed: np.ndarray = field(repr=False, default=None)
+    joint_path: JointPath = field(repr=False)
+    speed_peak: np.ndarray = field(repr=False)
+    speed_peak_t: np.ndarray = field(repr=False)
+    acceleration_peak: np.ndarray = field(repr=False)
+    acceleration_peak_t: np.ndarray = field(repr=False)
+    spray: np.ndarray = field(repr=False)
+    gun_speed: np.ndarray = field(repr=False)
     commanded_speed: float | None = None
     stops: tuple = ()
-    ramps: np.ndarray = field(repr=False, default=None)
+    ramps: np.ndarray = field(repr=False, default_factory=lambda: np.zeros((0, 2)))
 
     def evaluate(self, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Joints, velocities and accelerations ``(M, 6)`` each at times ``t`` (M,) (s)."""

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -29,6 +30,9 @@ from .surface import (
     target_faces,
 )
 from .timing import time_path
+
+if TYPE_CHECKING:
+    from . import PaintResult
 
 __all__ = ["MeshPaintResult", "paint_mesh", "choose_spacing", "DEFAULT_SPEED",
            "RIPPLE_GOAL", "write_trajectory_spray_csv"]
@@ -81,7 +85,7 @@ class MeshPaintResult:
         What was chosen and why (spacing, ripple, speed).
     """
 
-    program: object
+    program: PaintResult
     part: Part
     gun: Gun
     faces: np.ndarray

@@ -65,6 +65,10 @@ DEFAULT_SPACING = 100.0
 DEFAULT_STEP = 5.0
 
 
+#: The default ``spray`` of :class:`Path` (a marker, replaced by on at every sample).
+_SPRAY_ON = np.ones(0, dtype=bool)
+
+
 @dataclass(frozen=True, eq=False)
 class Path:
     """Tool poses along a path, in the robot's base frame (immutable).
@@ -96,7 +100,7 @@ class Path:
     u: np.ndarray
     geometry: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]] | None = field(default=None, repr=False)
     name: str = "path"
-    spray: np.ndarray | None = None
+    spray: np.ndarray = field(default_factory=lambda: _SPRAY_ON)
 
     def __post_init__(self) -> None:
         P = np.array(self.positions, dtype=float)
@@ -117,7 +121,7 @@ class Path:
             i = int(np.flatnonzero(du <= 0)[0])
             raise ValueError(f"the path parameter u must increase; samples {i} and {i + 1} have "
                              f"u = {u[i]:.9g} and {u[i + 1]:.9g} (coincident samples?)")
-        if self.spray is None:
+        if self.spray is None or self.spray is _SPRAY_ON:
             spray = np.ones(P.shape[0], dtype=bool)
         else:
             spray = np.array(self.spray)
@@ -171,13 +175,13 @@ class Path:
         positions : ndarray, shape (M, 3)
         rotations : ndarray, shape (M, 3, 3)
         """
-        u = np.atleast_1d(np.asarray(u, dtype=float))
-        if not np.all(np.isfinite(u)) or u.size and (u.min() < -1e-9 or u.max() > self.u[-1] + 1e-9):
-            raise ValueError(f"u must lie in [0, {self.u[-1]:.9g}]; got [{u.min():.9g}, {u.max():.9g}]")
-        u = np.clip(u, 0.0, self.u[-1])
+        x = np.atleast_1d(np.asarray(u, dtype=float))
+        if not np.all(np.isfinite(x)) or x.size and (x.min() < -1e-9 or x.max() > self.u[-1] + 1e-9):
+            raise ValueError(f"u must lie in [0, {self.u[-1]:.9g}]; got [{x.min():.9g}, {x.max():.9g}]")
+        x = np.clip(x, 0.0, self.u[-1])
         if self.geometry is not None:
-            return self.geometry(u)
-        return _interpolate_samples(self.positions, self.rotations, self.u, u)
+            return self.geometry(x)
+        return _interpolate_samples(self.positions, self.rotations, self.u, x)
 
 
 def _rotvecs(R_a: np.ndarray, R_b: np.ndarray) -> np.ndarray:

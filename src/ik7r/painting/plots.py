@@ -133,7 +133,7 @@ def plot_path_3d(robot: Robot, trajectory: Trajectory, out: PathLike, *, posture
 
 
 def animate_painting(robot: Robot, trajectory: Trajectory, out: PathLike, *, frames: int = DEFAULT_FRAMES,
-                     fps: float = 12.0, dpi: float = 72.0) -> FilePath:
+                     fps: int = 12, dpi: float = 72.0) -> FilePath:
     """An animation of the robot painting: a GIF (``.gif``, Pillow) or a self-contained HTML page
     (``.html``, ``to_jshtml``), with ``frames`` frames evenly spread over the duration."""
     if frames < 2:

@@ -185,7 +185,7 @@ def load_gun(source=DEFAULT_GUN) -> Gun:
     if isinstance(source, Gun):
         return source
     if isinstance(source, str) and source in BUILTIN_GUNS:
-        text = resources.files("ik7r.painting").joinpath("data", "guns", BUILTIN_GUNS[source]).read_text()
+        text = (resources.files("ik7r.painting") / "data" / "guns" / BUILTIN_GUNS[source]).read_text()
         return gun_from_toml(text, source=f"built-in gun {source!r}")
     fp = FilePath(source)
     if not fp.is_file():

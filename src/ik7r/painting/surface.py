@@ -228,7 +228,7 @@ def slice_surface(part: Part, faces, normals, *, spacing: float, direction=(1.0,
             continue
         # stretches: union of the segments' s-intervals
         idx = np.argsort(s_seg[:, 0])
-        covered = []
+        covered: list[list[float]] = []
         for a, b in s_seg[idx]:
             if covered and a <= covered[-1][1] + 10 * eps:
                 covered[-1][1] = max(covered[-1][1], b)
@@ -385,7 +385,7 @@ def _extension(run: PoseRun, length: float, step: float, spin: float, *, at_star
     return (p[::-1], r[::-1], -t_end) if at_start else (p, r, t_end)
 
 
-def _bridge(p0, R0, p1, R1, step: float, *, min_inner: int = 1):
+def _bridge(p0, R0, p1, R1, step: float, *, min_inner: int = 1) -> tuple[np.ndarray, np.ndarray]:
     """Poses strictly between (p0, R0) and (p1, R1): linear positions, slerped rotations, at
     most ``step`` apart, at least ``min_inner`` of them."""
     from scipy.spatial.transform import Rotation, Slerp
@@ -464,7 +464,7 @@ def _septic(t):
     return (1 - step, h1, step, -g), (-dstep, d1, dstep, dg)
 
 
-def _turn(p0, R0, p1, R1, step: float, spin: float, t0=None, t1=None):
+def _turn(p0, R0, p1, R1, step: float, spin: float, t0=None, t1=None) -> tuple[np.ndarray, np.ndarray]:
     """Interior poses of a U turn from (p0, R0) to (p1, R1): a septic Hermite curve leaving along
     the first travel direction ``t0`` and arriving along the second ``t1`` (default the tools'
     travel directions) with zero curvature and zero rate of curvature at both ends (tangent

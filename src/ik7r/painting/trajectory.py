@@ -7,6 +7,10 @@ nearest the previous one. A step larger than ``max_step`` in any joint is bisect
 path (:func:`track`) until every sub-step is small: a branch that cannot be followed that way
 has ended (a joint limit, the edge of the workspace, a wrist flip near theta5 = 0).
 
+The following itself is the one path follower, :func:`ik7r.ik.path.ik_path` (its branch
+follower: ``pose_at=`` the path, ``within_limits=True``); this module turns its answers (which
+rows continue the branch, and why the branch was lost where it was) into events.
+
 Nothing is hidden: an unreachable sample, a jump to another branch, a crossing of
 theta5 = 0 (the Wrist indicator flips by definition), a joint limit, and a stretch close to
 a wrist singularity are reported as events (:mod:`ik7r.painting.events`).
@@ -31,17 +35,18 @@ if TYPE_CHECKING:
     from ..robot.model import Robot
 
 import math
-from contextlib import nullcontext
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
-from ..errors import UnreachableError
 from ..geometry.checks import check_config, check_joints
 from ..geometry.configs import config_number, config_of_indicators
 from ..geometry.rotations import wrap_angle
+from ..ik.path import DEFAULT_MAX_DEPTH, LIMIT_SLACK, Lost, follow, ik_path, wrist_singularity_distance
+from ..ik.path import in_configuration as _matches  # noqa: F401  (the painting name of the rule)
+from ..robot.model import JOINT_LABELS
 from .events import (
-    JOINT_LABELS,
     BranchChange,
     ConfigChange,
     JointLimit,
@@ -57,12 +62,8 @@ __all__ = ["PathSolution", "solve_path", "track", "DEFAULT_MAX_STEP", "DEFAULT_S
 
 #: Largest joint step (rad) between consecutive (sub-)samples accepted as continuous motion.
 DEFAULT_MAX_STEP = math.radians(3.0)
-#: Bisection depth of :func:`track`: a path step is cut into at most 2**depth sub-steps.
-DEFAULT_MAX_DEPTH = 12
 #: Distance of theta5 from 0 or 180 deg (rad) reported as :class:`NearSingularity`.
 DEFAULT_SINGULAR_MARGIN = math.radians(5.0)
-#: Joint-limit slack (rad): values this close outside a limit count as on it.
-_LIMIT_SLACK = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,12 +107,12 @@ class PathSolution:
 
 
 # ----------------------------------------------------------------------------- helpers
-def _world(robot, T_base) -> np.ndarray:
+def _world(robot: Robot, T_base: np.ndarray) -> np.ndarray:
     """World <- tool from base <- tool poses (the robot's ``base`` placement)."""
     return robot.base @ T_base
 
 
-def _pose_at(robot, path: Path, u: float) -> np.ndarray:
+def _pose_at(robot: Robot, path: Path, u: float) -> np.ndarray:
     P, R = path.at(np.array([u]))
     T = np.eye(4)
     T[:3, :3] = R[0]
@@ -119,122 +120,23 @@ def _pose_at(robot, path: Path, u: float) -> np.ndarray:
     return _world(robot, T)
 
 
-def _config_number(q) -> int:
-    """Configuration number of one joint vector (the paper's Appendix 3)."""
-    return int(config_number(q))
-
-
-def _matches(q, cfg: int) -> bool:
-    """``q`` is in configuration ``cfg``, by the solver's own rule (:func:`ik7r._kernels.matches`):
-    a solution on a boundary between configurations belongs to both."""
-    from .._kernels import matches  # here: importing a kernel imports numba
-
-    return bool(matches(np.ascontiguousarray(q, dtype=float), *check_config(cfg)))
-
-
-def _wrist_distance(q5) -> np.ndarray:
-    """Distance of theta5 from the wrist singularities 0 and pi (rad)."""
-    a = np.abs(wrap_angle(q5))
-    return np.minimum(a, np.pi - a)
-
-
-def _limit_violation(robot, q) -> tuple[int, float, float] | None:
-    """(joint, value, limit) of the joint of ``q`` farthest outside its range, or None."""
-    over = np.maximum(q - robot.upper, robot.lower - q)
-    j = int(np.argmax(over))
-    if over[j] <= _LIMIT_SLACK:
-        return None
-    limit = robot.upper[j] if q[j] > robot.upper[j] else robot.lower[j]
-    return j, float(q[j]), float(limit)
-
-
-def _in_range_by_turns(robot, q) -> np.ndarray:
+def _in_range_by_turns(robot: Robot, q: np.ndarray) -> np.ndarray:
     """Per joint: can a multiple of 2 pi bring ``q`` (6,) inside the limits?"""
     k = np.ceil((robot.lower - q) / (2 * np.pi) - 1e-12)
-    return q + 2 * np.pi * k <= robot.upper + _LIMIT_SLACK
-
-
-@dataclass(frozen=True)
-class _Lost:
-    """Why :func:`track` could not follow the branch: where and what."""
-
-    u: float
-    q_last: np.ndarray
-    reason: str
-    limit: tuple[int, float, float] | None = None
-
-
-def _diagnose(robot, q_a: np.ndarray, u_b: float, T_b: np.ndarray, max_step: float) -> _Lost:
-    sols = robot.ik_all(T_b, seed=q_a)
-    if len(sols) == 0:
-        return _Lost(u_b, q_a, "the path leaves the reachable workspace (no solution at all)")
-    near = q_a + wrap_angle(sols - q_a)
-    d = np.abs(near - q_a).max(axis=1)
-    k = int(np.argmin(d))
-    if d[k] <= max_step:
-        lim = _limit_violation(robot, near[k])
-        if lim is not None:
-            j, v, L = lim
-            side = "upper" if v > L else "lower"
-            return _Lost(u_b, q_a, f"{JOINT_LABELS[j]} would pass its {side} limit "
-                                   f"{math.degrees(L):.3f} deg (reaching {math.degrees(v):.3f} deg)", lim)
-    w = float(_wrist_distance(q_a[4]))
-    if w < 2 * DEFAULT_SINGULAR_MARGIN:
-        why = (f"near the wrist singularity (theta5 = {math.degrees(q_a[4]):.3f} deg) q4 and q7 turn faster "
-               f"than the path can be followed: the wrist flips")
-    else:
-        why = ("the solution branch ends (it merges with another solution: a singularity or the edge of "
-               "the workspace)")
-    return _Lost(u_b, q_a, why)
+    return q + 2 * np.pi * k <= robot.upper + LIMIT_SLACK
 
 
 def track(robot: Robot, path: Path, q_from: ArrayLike, u_from: float, u_to: float, *,
           max_step: float = DEFAULT_MAX_STEP, max_depth: int = DEFAULT_MAX_DEPTH,
-          T_to: ArrayLike | None = None) -> tuple[np.ndarray | None, _Lost | None]:
+          T_to: ArrayLike | None = None) -> tuple[np.ndarray | None, Lost | None]:
     """Follow the solution branch through ``q_from`` (at ``path.at(u_from)``) to ``u_to``.
 
-    Parameters
-    ----------
-    robot : Robot
-    path : Path
-    q_from : array_like, shape (6,)
-        A solution (rad) of the pose at ``u_from``.
-    u_from, u_to : float
-        Path parameters.
-    max_step : float
-        Largest joint change (rad) accepted between sub-samples; larger steps are bisected.
-    max_depth : int
-        Most bisections.
-    T_to : array_like, shape (4, 4), optional
-        The world pose at ``u_to`` if already known.
-
-    Returns
-    -------
-    q : ndarray, shape (6,) or None
-        The solution at ``u_to`` on the same branch (within the joint limits), or None.
-    lost : _Lost or None
-        Where and why the branch could not be followed (None on success).
+    The path follower's step, :func:`ik7r.ik.path.follow` (its parameters and returns), along
+    the painting :class:`Path` ``path`` (its poses placed in the world by the robot's ``base``),
+    with painting's defaults (``max_step`` 3 deg).
     """
-    q_from = check_joints(q_from, "q_from")
-    T_b = _pose_at(robot, path, u_to) if T_to is None else T_to
-
-    def step(q_a, u_a, u_b, T_b, depth):
-        sols = robot.ik_all(T_b, within_limits=True, seed=q_a)
-        if len(sols):
-            d = np.abs(sols - q_a).max(axis=1)
-            k = int(np.argmin(d))
-            if d[k] <= max_step:
-                return sols[k], None
-        if depth == 0:
-            return None, _diagnose(robot, q_a, u_b, T_b, max_step)
-        u_m = 0.5 * (u_a + u_b)
-        T_m = _pose_at(robot, path, u_m)
-        q_m, lost = step(q_a, u_a, u_m, T_m, depth - 1)
-        if q_m is None:
-            return None, lost
-        return step(q_m, u_m, u_b, T_b, depth - 1)
-
-    return step(q_from, float(u_from), float(u_to), T_b, max_depth)
+    return follow(robot, partial(_pose_at, robot, path), q_from, u_from, u_to, max_step=max_step,
+                  max_depth=max_depth, T_to=T_to)
 
 
 def _why_unreachable(robot, T, config: int, seed) -> tuple[str, str, str]:
@@ -251,14 +153,16 @@ def _why_unreachable(robot, T, config: int, seed) -> tuple[str, str, str]:
     inside = robot.ik_all(T, within_limits=True, seed=seed)
     others = sorted(set(int(c) for c in robot.config_of(inside))) if len(inside) else []
     # the configuration's solution with the fewest joints out of range, and by how much
-    best, best_key = None, None
+    best: tuple[np.ndarray, np.ndarray] | None = None
+    best_key: tuple[int, float] | None = None
     for q in mine:
         bad = ~_in_range_by_turns(robot, q)
         excess = np.where(bad, np.minimum(np.abs(wrap_angle(q - robot.upper)),
                                           np.abs(wrap_angle(robot.lower - q))), 0.0)
         key = (int(bad.sum()), float(excess.sum()))
-        if best_key is None or key < best_key:
+        if best is None or best_key is None or key < best_key:
             best, best_key = (q, bad), key
+    assert best is not None  # mine is not empty
     q, bad = best
     parts = [f"{JOINT_LABELS[j]} = {math.degrees(q[j]):.3f} deg outside [{math.degrees(robot.lower[j]):.0f}, "
              f"{math.degrees(robot.upper[j]):.0f}] deg" for j in np.flatnonzero(bad)]
@@ -267,8 +171,14 @@ def _why_unreachable(robot, T, config: int, seed) -> tuple[str, str, str]:
     return "limits", f"outside the joint limits in configuration {config}", ", ".join(parts) + tail
 
 
+def _sample_position(path: Path, i: int) -> tuple[float, float, float]:
+    """The position of sample ``i`` (length unit), for an event."""
+    x, y, z = (float(v) for v in path.positions[i])
+    return x, y, z
+
+
 def _group_unreachable(unreach: dict, path: Path, unit: str) -> list[tuple[int, PathEvent]]:
-    out = []
+    out: list[tuple[int, PathEvent]] = []
     idx = sorted(unreach)
     start = 0
     while start < len(idx):
@@ -284,8 +194,7 @@ def _group_unreachable(unreach: dict, path: Path, unit: str) -> list[tuple[int, 
             if last != first and unreach[last][2] != detail:
                 reason += f"; sample {last}: {unreach[last][2]}"
             reason += ")"
-        pos = tuple(float(v) for v in path.positions[first])
-        out.append((first, Unreachable(first, last, reason, pos, unit)))
+        out.append((first, Unreachable(first, last, reason, _sample_position(path, first), unit)))
         start = end + 1
     return out
 
@@ -294,9 +203,9 @@ def _near_singular(q: np.ndarray, ok: np.ndarray, margin: float) -> list[tuple[i
     if margin <= 0:
         return []
     dist = np.full(len(q), np.inf)
-    dist[ok] = _wrist_distance(q[ok, 4])
+    dist[ok] = wrist_singularity_distance(q[ok, 4])
     near = dist < margin
-    out = []
+    out: list[tuple[int, PathEvent]] = []
     i = 0
     while i < len(q):
         if near[i]:
@@ -355,74 +264,51 @@ def solve_path(robot: Robot, path: Path, config: Config = 1, seed: ArrayLike | N
     cfg = int(config_of_indicators(arm, elbow, wrist))
     seed0 = None if seed is None else check_joints(seed, "seed")
 
-    from ..progress import Progress
-
     n = len(path)
     T_all = _world(robot, path.transforms)
-    q = np.full((n, 6), np.nan)
+    res = ik_path(robot, T_all, cfg, seed=seed0, within_limits=True, max_step=max_step, keep=keep,
+                  pose_at=partial(_pose_at, robot, path), u=path.u, progress=progress)
+    q = np.array(res.q)
     unit = robot.unit
     tagged: list[tuple[int, PathEvent]] = []
     unreach: dict[int, tuple[str, str, str]] = {}
-    prev = None
-    last_good = seed0
 
-    def pos(i):
-        return tuple(float(v) for v in path.positions[i])
+    def pos(i: int) -> tuple[float, float, float]:
+        return _sample_position(path, i)
 
-    def by_config(i, seed_q):
-        return robot.ik(T_all[i], cfg, seed=seed_q, within_limits=True)
+    def crossing(i: int, prev: np.ndarray, cont: np.ndarray) -> None:
+        """The events of the continuous branch from ``prev`` (row i - 1) to ``cont`` (row i)."""
+        c_prev, c_new = int(config_number(prev)), int(config_number(cont))
+        if c_new == c_prev:
+            return
+        ind_prev, ind_new = robot.indicators(prev), robot.indicators(cont)
+        if ind_prev[2] != ind_new[2] and np.array_equal(ind_prev[:2], ind_new[:2]):
+            angle = 0.0 if abs(wrap_angle(prev[4])) < np.pi / 2 else np.pi
+            tagged.append((i, WristCrossing(i, angle, float(prev[4]), float(cont[4]), c_prev, c_new,
+                                            pos(i), unit)))
+        else:
+            tagged.append((i, ConfigChange(i, c_prev, c_new, pos(i), unit)))
 
-    bar = Progress(n, "solving the path") if progress else nullcontext()
-    with bar:
-        for i in range(n):
-            if progress:
-                bar.advance(1)
-            if prev is None:
-                try:
-                    q[i] = by_config(i, last_good)
-                except UnreachableError:
-                    unreach[i] = _why_unreachable(robot, T_all[i], cfg, last_good)
-                    continue
-                prev = q[i]
-                last_good = prev
-                continue
-            cont, lost = track(robot, path, prev, path.u[i - 1], path.u[i], max_step=max_step,
-                               T_to=T_all[i])
-            chosen = None
-            if cont is not None:
-                c_prev, c_new = _config_number(prev), _config_number(cont)
-                if c_new != c_prev:
-                    ind_prev, ind_new = robot.indicators(prev), robot.indicators(cont)
-                    if ind_prev[2] != ind_new[2] and np.array_equal(ind_prev[:2], ind_new[:2]):
-                        angle = 0.0 if abs(wrap_angle(prev[4])) < np.pi / 2 else np.pi
-                        tagged.append((i, WristCrossing(i, angle, float(prev[4]), float(cont[4]),
-                                                        c_prev, c_new, pos(i), unit)))
-                    else:
-                        tagged.append((i, ConfigChange(i, c_prev, c_new, pos(i), unit)))
-                if keep == "branch" or _matches(cont, cfg):
-                    chosen = cont
-                else:
-                    reason = (f"the continuous solution leaves configuration {cfg} (to {c_new}); "
-                              f"keeping configuration {cfg} turns the wrist over")
-            else:
-                reason = lost.reason
-                if lost.limit is not None:
-                    j, v, L = lost.limit
-                    k = int(np.clip(np.searchsorted(path.u, lost.u), 0, n - 1))
-                    tagged.append((i, JointLimit(j, v, L, index=k, position=pos(k), unit=unit)))
-            if chosen is None:
-                try:
-                    chosen = by_config(i, prev)
-                except UnreachableError:
-                    unreach[i] = _why_unreachable(robot, T_all[i], cfg, prev)
-                    prev = None
-                    continue
-                jump = np.abs(chosen - prev)
+    last_good = seed0  # the solution the follower (re)started from: the last one found
+    for i in range(n):
+        lost = res.lost.get(i)
+        if res.tracked[i]:
+            crossing(i, q[i - 1], q[i])
+        elif lost is not None:
+            if lost.continued is not None:
+                crossing(i, q[i - 1], lost.continued)
+            if lost.limit is not None:
+                j, v, L = lost.limit
+                k = int(np.clip(np.searchsorted(path.u, lost.u), 0, n - 1))
+                tagged.append((i, JointLimit(j, v, L, index=k, position=pos(k), unit=unit)))
+            if res.ok[i]:
+                jump = np.abs(q[i] - q[i - 1])  # a row is lost only after a solved one
                 j = int(np.argmax(jump))
-                tagged.append((i, BranchChange(i, j, float(jump[j]), reason, pos(i), unit)))
-            q[i] = chosen
-            prev = chosen
-            last_good = prev
+                tagged.append((i, BranchChange(i, j, float(jump[j]), lost.reason, pos(i), unit)))
+        if res.ok[i]:
+            last_good = q[i]
+        else:
+            unreach[i] = _why_unreachable(robot, T_all[i], cfg, last_good)
 
     ok = np.all(np.isfinite(q), axis=1)
     tagged += _group_unreachable(unreach, path, unit)

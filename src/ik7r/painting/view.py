@@ -111,7 +111,7 @@ def write_view_html(out, robot, part, thickness, trajectory, path, *, faces=None
     }
     from importlib import resources
 
-    template = resources.files("ik7r.painting").joinpath("data", "view.html").read_text()
+    template = (resources.files("ik7r.painting") / "data" / "view.html").read_text()
     html = template.replace("/*DATA*/", json.dumps(data))
     fp = FilePath(out)
     fp.write_text(html)

@@ -306,8 +306,8 @@ def write_report(path, *, plan, table2_rows, table3_rows, table5_rows, studies, 
             "(copies within 1e-4 rad of each other, at a wrist singularity: theta5 = 0 or +-180); each is "
             "counted once here.")
     final = [r.position_error[-1] for r in runs if r.ok]
-    its = [len(r.position_error) for r in runs]
-    add(f"- Figure 8: from {len(runs)} starts, {len(final)} converge, in {min(its)} to {max(its)} "
+    n_its = [len(r.position_error) for r in runs]
+    add(f"- Figure 8: from {len(runs)} starts, {len(final)} converge, in {min(n_its)} to {max(n_its)} "
         f"iterations, to a final position error of at most {max(final) if final else math.nan:.1e} {unit} "
         f"(the last iterate takes {1e3 * max(r.elapsed[-1] for r in runs):.2f} ms at most here).\n")
 

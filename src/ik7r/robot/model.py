@@ -21,11 +21,13 @@ from .family import MAX_JOINT_ANGLE, Family, check_placement, family_of
 
 if TYPE_CHECKING:
     from ..ik.paper import PaperResult
-    from ..ik.path import PathIK
+    from ..ik.path import PathIK, PoseAt
 
 __all__ = ["Robot"]
 
 DEFAULT_JOINT_NAMES = tuple(f"joint_{i}" for i in range(1, 8))
+#: Names of the six independent joints ``[q1, q2, q3, q4, q5, q7]``, as printed in reports.
+JOINT_LABELS = ("q1", "q2", "q3", "q4", "q5", "q7")
 
 
 _MODULES: dict = {}
@@ -285,11 +287,15 @@ class Robot:
         return _lazy("ik.solve").ik_all_batch(self, T)
 
     def ik_path(self, T: ArrayLike, config: Config = 1, *, seed: ArrayLike | None = None,
-                within_limits: bool = False, max_step: float = 0.2) -> PathIK:
-        """Warm-started IK along a path ``(N, 4, 4)``; see :func:`ik7r.ik.path.ik_path`."""
+                within_limits: bool = False, max_step: float = 0.2, keep: str = "config",
+                pose_at: PoseAt | None = None, u: ArrayLike | None = None,
+                max_depth: int = 12, progress: bool = False) -> PathIK:  # 12: DEFAULT_MAX_DEPTH
+        """Warm-started IK along a path ``(N, 4, 4)``, the one path follower (also the branch
+        follower painting uses: ``keep``, ``pose_at``, ``u``); see :func:`ik7r.ik.path.ik_path`."""
         from ..ik.path import ik_path
 
-        return ik_path(self, T, config, seed=seed, within_limits=within_limits, max_step=max_step)
+        return ik_path(self, T, config, seed=seed, within_limits=within_limits, max_step=max_step,
+                       keep=keep, pose_at=pose_at, u=u, max_depth=max_depth, progress=progress)
 
     def ik_paper(self, T: ArrayLike, config: Config = 1, theta5_start: float | None = None,
                  **kwargs: Any) -> PaperResult:

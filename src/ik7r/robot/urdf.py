@@ -27,6 +27,7 @@ import xml.etree.ElementTree as ET
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import overload
 
 import numpy as np
 
@@ -139,6 +140,10 @@ def _floats(text: str | None, n: int, what: str, default) -> np.ndarray:
     return vals
 
 
+@overload
+def _float_attr(el: ET.Element, key: str, what: str, default: float) -> float: ...
+@overload
+def _float_attr(el: ET.Element, key: str, what: str, default: None) -> float | None: ...
 def _float_attr(el: ET.Element, key: str, what: str, default: float | None) -> float | None:
     val = el.get(key)
     if val is None:
@@ -166,12 +171,13 @@ def _parse_joint(el: ET.Element, source: str) -> UrdfJoint:
     jtype = el.get("type")
     if jtype not in _KNOWN_TYPES:
         raise RobotFileError(f"{where}: unknown type {jtype!r}; expected one of {', '.join(_KNOWN_TYPES)}")
-    links = []
+    links: list[str] = []
     for tag in ("parent", "child"):
         sub = el.find(tag)
-        if sub is None or not sub.get("link"):
+        link = None if sub is None else sub.get("link")
+        if not link:
             raise RobotFileError(f"{where}: missing <{tag} link=...>")
-        links.append(sub.get("link"))
+        links.append(link)
     org = el.find("origin")
     xyz = _floats(None if org is None else org.get("xyz"), 3, f"{where}: <origin xyz>", (0, 0, 0))
     rpy = _floats(None if org is None else org.get("rpy"), 3, f"{where}: <origin rpy>", (0, 0, 0))
@@ -200,9 +206,10 @@ def _parse_joint(el: ET.Element, source: str) -> UrdfJoint:
     mimic = None
     mel = el.find("mimic")
     if mel is not None and jtype != "fixed":
-        if not mel.get("joint"):
+        target = mel.get("joint")
+        if not target:
             raise RobotFileError(f"{where}: <mimic> needs joint=...")
-        mimic = (mel.get("joint"),
+        mimic = (target,
                  _float_attr(mel, "multiplier", f"{where} <mimic>", 1.0),
                  _float_attr(mel, "offset", f"{where} <mimic>", 0.0))
     return UrdfJoint(name=name, type=jtype, parent=links[0], child=links[1], origin=origin, axis=axis,
@@ -288,8 +295,9 @@ def read_chain(text: str | bytes, *, base: str | None = None, tip: str | None = 
         raise RobotFileError(f"{source}: not valid XML: {exc}") from exc
     if root.tag != "robot":
         raise RobotFileError(f"{source}: the root element must be <robot>; got <{root.tag}>")
-    links = [el.get("name") for el in root.findall("link")]
-    if any(not n for n in links):
+    named = [el.get("name") for el in root.findall("link")]
+    links = [n for n in named if n]
+    if len(links) != len(named):
         raise RobotFileError(f"{source}: a <link> has no name")
     link_set = set(links)
     if len(link_set) != len(links):
@@ -322,22 +330,24 @@ def read_chain(text: str | bytes, *, base: str | None = None, tip: str | None = 
     for key, val in (("base", base), ("tip", tip)):
         if val is not None and val not in link_set:
             raise RobotFileError(f"{source}: {key} link {val!r} is not defined; links are {_few(links)}")
-    base = roots[0] if base is None else base
+    base_link = roots[0] if base is None else base
     if tip is None:
         parents = {j.parent for j in joints}
-        below = _below(links, parent_joint, base)
-        leaves = [n for n in links if n not in parents and n != base and below[n]]
+        below = _below(links, parent_joint, base_link)
+        leaves = [n for n in links if n not in parents and n != base_link and below[n]]
         if not leaves:
-            raise RobotFileError(f"{source}: no link below base link {base!r}")
-        tip = max(leaves, key=lambda n: depth[n])  # first of the deepest
-    full = _path_to_root(tip, parent_joint)
-    start = next((k for k, j in enumerate(full) if j.parent == base), None)
+            raise RobotFileError(f"{source}: no link below base link {base_link!r}")
+        tip_link = max(leaves, key=lambda n: depth[n])  # first of the deepest
+    else:
+        tip_link = tip
+    full = _path_to_root(tip_link, parent_joint)
+    start = next((k for k, j in enumerate(full) if j.parent == base_link), None)
     if start is None:
-        raise RobotFileError(f"{source}: tip link {tip!r} is not below base link {base!r}")
+        raise RobotFileError(f"{source}: tip link {tip_link!r} is not below base link {base_link!r}")
     chain = tuple(full[start:])
     moving = tuple(k for k, j in enumerate(chain) if j.type in _MOVING)
-    return UrdfChain(name=root.get("name") or "robot", base=base, tip=tip, joints=chain, source=source,
-                     moving=moving)
+    return UrdfChain(name=root.get("name") or "robot", base=base_link, tip=tip_link, joints=chain,
+                     source=source, moving=moving)
 
 
 # ---------------------------------------------------------------------------- conversion
@@ -362,7 +372,10 @@ def _check_chain_family(chain: UrdfChain) -> tuple[list[UrdfJoint], float, float
         if j is not moving[5]:
             raise FamilyError(f"{src}: joint {j.name!r} is a mimic joint, but only the sixth revolute joint "
                               f"({names[5]!r}) may be coupled (to the fifth, {names[4]!r})")
-    target, m, c = moving[5].mimic
+    coupling = moving[5].mimic
+    if coupling is None:  # (the checks above found it)
+        raise FamilyError(f"{src}: joint {names[5]!r} must mimic {names[4]!r}")
+    target, m, c = coupling
     if target != names[4]:
         raise FamilyError(f"{src}: joint {names[5]!r} mimics {target!r}; it must mimic the fifth revolute "
                           f"joint of the chain, {names[4]!r}")
@@ -436,7 +449,8 @@ def _joint_signs(points: np.ndarray, u: np.ndarray, pref: np.ndarray, m: float) 
     angles. Between the two choices of ``s2`` the one matching more URDF directions is taken.
     """
     s4 = _forearm_sign(points, u, pref[3])
-    best, best_cost = None, None
+    best: np.ndarray | None = None
+    best_cost: int | None = None
     for s2 in (pref[1], -pref[1]):
         s = np.array([pref[0], s2, 0.0, s4, 0.0, 0.0, 0.0])
         s[2] = _sign(float(u[2] @ u[1]) * s2, pref[2])
@@ -444,8 +458,9 @@ def _joint_signs(points: np.ndarray, u: np.ndarray, pref: np.ndarray, m: float) 
         s[5] = -s[4] * _sign(m, 1.0)
         s[6] = _sign(float(u[6] @ u[5]) * s[5], pref[6])
         cost = int(np.sum(s[:3] != pref[:3]))
-        if best_cost is None or cost < best_cost:
+        if best is None or best_cost is None or cost < best_cost:
             best, best_cost = s, cost
+    assert best is not None  # the loop runs twice
     return best
 
 
@@ -527,16 +542,18 @@ def robot_from_chain(chain: UrdfChain) -> Robot:
     q0[5] = c
     # zero posture: the axis lines in base link coordinates
     T = np.eye(4)
-    points, dirs, k = [], [], 0
+    point_list: list[np.ndarray] = []
+    dir_list: list[np.ndarray] = []
+    k = 0
     for j in chain.joints:
         T = T @ j.origin
         if j.type in _MOVING:
-            points.append(T[:3, 3].copy())
-            dirs.append(_unit(T[:3, :3] @ j.axis))
+            point_list.append(T[:3, 3].copy())
+            dir_list.append(_unit(T[:3, :3] @ j.axis))
             T = T @ _axis_rotation(j.axis, q0[k])
             k += 1
     T_base_tip = T
-    points, dirs = np.array(points), np.array(dirs)
+    points, dirs = np.array(point_list), np.array(dir_list)
     size = float(np.sum(np.linalg.norm(np.diff(np.vstack([points, T_base_tip[:3, 3]]), axis=0), axis=1)))
     size = max(size, 1e-9)
     pref = np.array([_preferred_sign(j.axis) for j in moving])
