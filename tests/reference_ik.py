@@ -280,7 +280,7 @@ def _polish(ch, T, q):
         return cache[key]
 
     sol = least_squares(lambda x: both(x)[0], q, jac=lambda x: both(x)[1], method="lm", xtol=1e-15,
-                        ftol=1e-15, gtol=1e-15, max_nfev=200)
+                        ftol=1e-15, gtol=1e-15, max_nfev=100)
     x = _wrap(sol.x)
     return x if _exact(ch, T, x) else None
 
@@ -290,11 +290,11 @@ def _exact(ch, T, q):
     return bool(np.linalg.norm(F[:3, 3] - T[:3, 3]) <= ch.tol and np.abs(F[:3, :3] - T[:3, :3]).max() <= 1e-12)
 
 
-def _same(ch, a, b, merge):
+def _same(ch, a, b, merge, straight=1e-4):
     d = np.abs(_wrap(a - b))
     if d.max() <= merge:
         return True
-    if abs(_wrap(a[4])) < 1e-4 and abs(_wrap(b[4])) < 1e-4:  # straight wrist: s4 q4 + s7 q7
+    if abs(_wrap(a[4])) < straight and abs(_wrap(b[4])) < straight:  # straight: s4 q4 + s7 q7
         s4, s7 = ch.sign[3], ch.sign[6]
         tot = abs(_wrap(s4 * a[3] + s7 * a[5] - s4 * b[3] - s7 * b[5]))
         return max(d[[0, 1, 2, 4]].max(), tot) <= merge
@@ -457,7 +457,12 @@ def reference_ik(robot, T, merge=1e-6, extra_starts=None):
     T = np.asarray(T, float)
     pose = _Pose(ch, T)
     starts = []
-    for k, t5 in _theta5_candidates(pose):
+    cands: list[tuple[int, float]] = []
+    for k, t5 in sorted(_theta5_candidates(pose)):
+        if cands and cands[-1][0] == k and abs(cands[-1][1] - t5) < 1e-8:
+            continue  # graded grids next to the fold of a 45 deg twist (noise there)
+        cands.append((k, t5))
+    for k, t5 in cands:
         _, th, _ = pose.gaps(np.array([t5]))
         if np.all(np.isfinite(th[k, 0])):
             for sgn in (1.0, -1.0):
@@ -468,10 +473,130 @@ def reference_ik(robot, T, merge=1e-6, extra_starts=None):
     if extra_starts is not None:
         starts += list(np.atleast_2d(extra_starts))
     sols: list[np.ndarray] = []
+    tried = np.empty((0, 6))
     for q0 in starts:
         if not np.all(np.isfinite(q0)) or any(_same(ch, q0, y, 1e-8) for y in sols):
             continue
+        # starts within 1e-6 rad of one tried already (the graded grids give many next to the
+        # fully bent wrist of a 45 deg twist, where the gap is within rounding of zero) add nothing
+        if len(tried) and np.abs(_wrap(tried - q0)).max(axis=1).min() < 1e-6:
+            continue
+        tried = np.vstack([tried, q0])
+        # a start far from the pose is spurious (a sign change of the gap within its rounding
+        # next to the fold of a 45 deg twist): the scans' starts are within about the model's
+        # deviation of an exact solution
+        r = _residual_and_jacobian(ch, T, q0)[0]
+        if np.abs(r[:3]).max() > 1e-3 or np.abs(r[3:]).max() > 1e-2:
+            continue
         x = _polish(ch, T, q0)
-        if x is not None and not any(_same(ch, x, y, merge) for y in sols):
+        if x is not None and not any(_same(ch, x, y, merge, 1e-9) for y in sols):
             sols.append(x)
     return np.array(sols).reshape(-1, 6)
+
+
+# ---------------------------------------------------------------------- poses on the singular sets
+#: The singular sets :func:`singular_joints` places joints on.
+KINDS = ("straight", "near_straight", "bent", "stretched", "shoulder", "near_shoulder")
+
+
+def singular_joints(robot, rng, kind, n):
+    """Joints (n, 6) on (or near) a singular set of ``robot``, from the geometry above:
+
+    * ``straight``: DH theta5 = 0 (axes 4 and 7 collinear); ``near_straight``: 1e-9 .. 1e-3 from it;
+    * ``bent``: DH theta5 = pi (the fully bent wrist);
+    * ``stretched``: DH theta3 = gamma or gamma + pi, the elbow's K / R = +-1 (``gamma`` of the
+      virtual centre's distance L = d4 + s(theta5) and a3);
+    * ``shoulder``: the virtual centre on axis 1 (arms without lateral offset), theta2 in closed
+      form; ``near_shoulder``: at 1e-9 .. 1e-3 of the size from it.
+    """
+    ch = Chain(robot)
+    th = rng.uniform(-np.pi, np.pi, (n, 7))
+    if kind == "straight":
+        th[:, 4] = 0.0
+    elif kind == "near_straight":
+        th[:, 4] = rng.choice([-1.0, 1.0], n) * 10.0 ** rng.uniform(-9, -3, n)
+    elif kind == "bent":
+        th[:, 4] = np.pi
+    elif kind in ("stretched", "shoulder", "near_shoulder"):
+        s, *_ = _wrist(ch, np.abs(th[:, 4]))
+        L = ch.d4 + s
+        gamma = np.arctan2(ch.eps3 * L, ch.a3)
+        if kind == "stretched":
+            th[:, 2] = gamma + np.pi * rng.integers(0, 2, n)
+        else:
+            if abs(ch.b) > 1e-9 * ch.size:
+                raise ValueError("the shoulder set needs an arm without lateral offset")
+            delta = 0.0 if kind == "shoulder" else (rng.choice([-1.0, 1.0], n) * ch.size
+                                                     * 10.0 ** rng.uniform(-9, -3, n))
+            t3 = th[:, 2]
+            X = ch.a2 + ch.a3 * np.cos(t3) + ch.eps3 * L * np.sin(t3)
+            Y = ch.a3 * np.sin(t3) - ch.eps3 * L * np.cos(t3)
+            # radial coordinate a1 + cos(t2) X - sin(t2) Y = delta
+            c = np.clip((delta - ch.a1) / np.hypot(X, Y), -1.0, 1.0)
+            th[:, 1] = -np.arctan2(Y, X) + rng.choice([-1.0, 1.0], n) * np.arccos(c)
+    else:
+        raise ValueError(f"kind must be one of {KINDS}; got {kind!r}")
+    th[:, 5] = -th[:, 4]
+    return np.array([ch.joints(t) for t in th])
+
+
+def among(robot, sols, q, T, tol=1e-6):
+    """Whether joints ``q`` (a solution of the pose ``T``) are among ``sols`` (M, 6): within ``tol``
+    rad in every joint (at a straight wrist, abs(q5) < 1e-4: in q1, q2, q3, q5 and
+    ``s4 q4 + s7 q7``), or joined to an answer less than 1e-2 rad away by a segment whose 9
+    points all meet the pose (where the forward kinematics is flat to high order an exact
+    solution is a valley of poses equal within the tolerance, and any point of it is that
+    solution); the segment is checked on this module's forward kinematics."""
+    ch = Chain(robot)
+    sols = np.asarray(sols).reshape(-1, 6)
+    if len(sols) == 0:
+        return False
+    if any(_same(ch, q, s, tol) for s in sols):
+        return True
+    k = int(np.argmin(np.abs(_wrap(sols - q)).max(axis=1)))
+    step = _wrap(sols[k] - q)
+    if np.abs(step).max() >= 1e-2:
+        return False
+    F = ch.fk(q + np.linspace(0.0, 1.0, 9)[:, None] * step)
+    dp = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1)
+    dr = np.abs(F[:, :3, :3] - T[:3, :3]).max(axis=(1, 2))
+    return bool(np.all(dp <= ch.tol + 1e-12 * max(1.0, ch.size / 1e3)) and np.all(dr <= 1e-12))
+
+
+def exact(robot, sols, T, margin=1e-12):
+    """Position errors (M,) and rotation errors (M,) of ``sols`` on this module's forward kinematics,
+    and whether each meets the robot's tolerance min(1e-9, 1e-12 size) (plus ``margin`` for two
+    products that round differently) and 1e-12 in rotation plus 1e-15."""
+    ch = Chain(robot)
+    F = ch.fk(np.asarray(sols).reshape(-1, 6))
+    dp = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1)
+    dr = np.abs(F[:, :3, :3] - T[:3, :3]).max(axis=(1, 2))
+    return dp, dr, (dp <= ch.tol + margin) & (dr <= 1e-12 + 1e-15)
+
+
+# ---------------------------------------------------------------------- family members
+def family_member(rng, beta_deg=None, lateral=True, rounded=False):
+    """A random DH table (7, 4) of the family (mm, rad): shoulder offset a1, upper arm a2, elbow
+    offset a3, lateral offset d2 + d3 (when ``lateral``), base height d1, forearm d4, wrist
+    twists (-beta, 2 beta, -beta) with beta in [15, 45] deg (or ``beta_deg``), d5 = d6, flange d7,
+    alpha1 and alpha3 of either sign. ``rounded``: lengths rounded to 1 mm and angles to 0.01 deg,
+    as a published datasheet gives them (2 beta rounded is then not twice beta rounded: the
+    wrist deviates from the mirror)."""
+    beta = math.radians(rng.uniform(15.0, 45.0) if beta_deg is None else beta_deg)
+    e1, e3 = rng.choice([-1.0, 1.0], 2)
+    b2 = rng.uniform(-150, 150) if lateral else 0.0
+    b3 = rng.uniform(-150, 150) if lateral else -b2
+    dw = rng.uniform(60, 150)
+    dh = np.array([
+        [0.0, 0.0, rng.uniform(0, 900), 0.0],
+        [rng.uniform(0, 400), e1 * np.pi / 2, b2, 0.0],
+        [rng.uniform(700, 1400), 0.0, b3, 0.0],
+        [rng.uniform(0, 250), e3 * np.pi / 2, rng.uniform(700, 1500), 0.0],
+        [0.0, -beta, dw, 0.0],
+        [0.0, 2 * beta, dw, 0.0],
+        [0.0, -beta, rng.uniform(20, 200), 0.0],
+    ])
+    if rounded:
+        dh[:, [0, 2]] = np.round(dh[:, [0, 2]])
+        dh[:, 1] = np.radians(np.round(np.degrees(dh[:, 1]), 2))
+    return dh
