@@ -107,7 +107,8 @@ class Chain:
 
     def joints(self, th):
         """Joints q (6,) of DH angles th (7,) (theta6 is implied by theta5)."""
-        q = (np.asarray(th)[[0, 1, 2, 3, 4, 6]] - self.dh[[0, 1, 2, 3, 4, 6], 3]) * self.sign[[0, 1, 2, 3, 4, 6]]
+        idx = [0, 1, 2, 3, 4, 6]
+        q = (np.asarray(th)[idx] - self.dh[idx, 3]) * self.sign[idx]
         return _wrap(q)
 
     def fk(self, q, table=None):
@@ -211,7 +212,8 @@ def _angle(u, v):
     cx = u[..., 1] * v[2] - u[..., 2] * v[1]
     cy = u[..., 2] * v[0] - u[..., 0] * v[2]
     cz = u[..., 0] * v[1] - u[..., 1] * v[0]
-    return np.arctan2(np.sqrt(cx * cx + cy * cy + cz * cz), u[..., 0] * v[0] + u[..., 1] * v[1] + u[..., 2] * v[2])
+    dot = u[..., 0] * v[0] + u[..., 1] * v[1] + u[..., 2] * v[2]
+    return np.arctan2(np.sqrt(cx * cx + cy * cy + cz * cz), dot)
 
 
 class _Pose:
@@ -304,7 +306,8 @@ def _polish(ch, T, q):
 
 def _exact(ch, T, q):
     F = _frames(ch, q)[7]
-    return bool(np.linalg.norm(F[:3, 3] - T[:3, 3]) <= ch.tol and np.abs(F[:3, :3] - T[:3, :3]).max() <= 1e-12)
+    dp = np.linalg.norm(F[:3, 3] - T[:3, 3])
+    return bool(dp <= ch.tol and np.abs(F[:3, :3] - T[:3, :3]).max() <= 1e-12)
 
 
 def _same(ch, a, b, merge, straight=1e-4):

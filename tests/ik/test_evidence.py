@@ -81,8 +81,8 @@ _SET_OPEN: dict[tuple[str, str], str] = {
 }
 
 _SET_POSES = 3
-_SET_CASES = [(r, k) for r in ("paper", "irb5400", "offsets", "rounded", "beta45") for k in KINDS + ("random",)
-              if not (r == "offsets" and k.endswith("shoulder"))]
+_SET_CASES = [(r, k) for r in ("paper", "irb5400", "offsets", "rounded", "beta45")
+              for k in KINDS + ("random",) if not (r == "offsets" and k.endswith("shoulder"))]
 
 
 def _set_param(r, k):
@@ -114,4 +114,84 @@ def test_solution_set_against_reference(name, kind):
         missed = sum(not among(robot, sols, r, T) for r in ref)
         poses_missed += missed > 0
         sols_missed += missed
-    assert (poses_missed, sols_missed) == (0, 0), f"{sols_missed} reference solutions missed in {poses_missed} poses"
+    assert (poses_missed, sols_missed) == (0, 0), \
+        f"{sols_missed} reference solutions missed in {poses_missed} poses"
+
+
+# ---------------------------------------------------------------- property tests over family members
+def _check_round_trip(robot, q):
+    """The source q is among ik_all's answers of its own pose, every answer meets the pose on
+    the reference's forward kinematics, and no two answers are one. Returns whether the source
+    was found (the other two are asserted)."""
+    T = reference_fk(robot, q)
+    sols = robot.ik_all(T)
+    dp, dr, ok = exact(robot, sols, T)
+    assert ok.all(), (q.tolist(), dp.max(), dr.max())
+    assert duplicates(robot, sols) == 0, q.tolist()
+    return among(robot, sols, q, T)
+
+
+_MEMBER = dict(seed=st.integers(0, 2**32 - 1), kind=st.sampled_from(KINDS + ("random",)),
+               lateral=st.booleans())
+
+
+@settings(max_examples=30, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(beta=st.one_of(st.just(None), st.just(45.0)), **_MEMBER)
+def test_family_members_round_trip(seed, kind, lateral, beta):
+    """Exact family members (twists (-beta, 2 beta, -beta), beta in [15, 45] deg or 45 deg, any
+    offsets), joints at random or on a singular set: two sources each."""
+    rng = np.random.default_rng(seed)
+    lateral = lateral and "shoulder" not in kind
+    robot = Robot(name="member", dh=family_member(rng, beta_deg=beta, lateral=lateral))
+    Q = rng.uniform(-np.pi, np.pi, (2, 6)) if kind == "random" else singular_joints(robot, rng, kind, 2)
+    missed = [q.tolist() for q in Q if not _check_round_trip(robot, q)]
+    assert missed == []
+
+
+@pytest.mark.xfail(strict=False, reason=_DEV + "measured 1 of 350 sources missed (25 rounded members per "
+                   "kind, 2 sources each: 1 at the stretched elbow, 0 elsewhere); hypothesis finds seed=152, "
+                   "kind='stretched', lateral=True")
+@settings(max_examples=30, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
+@given(**_MEMBER)
+def test_rounded_members_round_trip(seed, kind, lateral):
+    """Family members rounded like a published datasheet (lengths to 1 mm, angles to 0.01 deg:
+    the wrist deviates from the mirror by up to 0.01 deg), joints at random or on a singular set
+    (of the unrounded geometry): two sources each."""
+    rng = np.random.default_rng(seed)
+    lateral = lateral and "shoulder" not in kind
+    robot = Robot(name="rounded", dh=family_member(rng, lateral=lateral, rounded=True))
+    Q = rng.uniform(-np.pi, np.pi, (2, 6)) if kind == "random" else singular_joints(robot, rng, kind, 2)
+    missed = [q.tolist() for q in Q if not _check_round_trip(robot, q)]
+    assert missed == []
+
+
+# ---------------------------------------------------------------- 100,000 IRB 5400 poses
+def _count_missed_irb5400(n=100_000, seed=120900):
+    """Sources uniform in [-pi, pi]^6 made into poses by the reference's forward kinematics,
+    solved by ``ik_all_batch``: (missed sources, answers, worst position error of an answer on
+    the reference's forward kinematics, examples of missed sources)."""
+    robot = ik7r.load_robot("irb5400")
+    rng = np.random.default_rng(seed)
+    Q = rng.uniform(-np.pi, np.pi, (n, 6))
+    T = reference_fk(robot, Q)
+    S, valid = robot.ik_all_batch(T)
+    near = np.full(n, np.inf)
+    for k in range(S.shape[1]):  # column by column: small temporaries
+        d = np.abs(_wrap(S[:, k] - Q)).max(axis=1)
+        near = np.where(valid[:, k], np.minimum(near, d), near)
+    missed = [i for i in np.flatnonzero(near > 1e-6) if not among(robot, S[i][valid[i]], Q[i], T[i])]
+    rows = np.repeat(np.arange(n), valid.sum(axis=1))
+    dp, dr, ok = exact(robot, S[valid], T[rows])
+    assert ok.all(), (dp.max(), dr.max())
+    return len(missed), int(valid.sum()), float(dp.max()), [Q[i].tolist() for i in missed[:3]]
+
+
+@pytest.mark.xfail(strict=False, reason="issue 12 item 4 (dev helper: the IRB 5400 over its whole joint "
+                   "range): measured 28 of 100,000 sources missed (seed 120900), the nearest answer "
+                   "up to 1.6 rad away")
+def test_irb5400_100k_round_trip():
+    """100,000 IRB 5400 sources uniform in [-pi, pi]^6: every source is among its pose's answers
+    (ik_all_batch, multithreaded), every answer meets the pose (asserted inside)."""
+    missed, answers, worst, examples = _count_missed_irb5400()
+    assert answers >= 100_000
+    assert missed == 0, f"{missed} of 100,000 sources missed (worst answer error {worst:.3g} mm): {examples}"
