@@ -497,7 +497,7 @@ def reference_ik(robot, T, merge=1e-6, extra_starts=None):
                     # a (nearly) straight wrist of a deviating model: the exact model's axes 4
                     # and 7 are not collinear there, so the split of theta4 + theta7 is fixed,
                     # weakly: start from splits all round
-                    for t4 in np.linspace(-np.pi, np.pi, 24, endpoint=False):
+                    for t4 in np.linspace(-np.pi, np.pi, 12, endpoint=False):
                         f = full.copy()
                         f[3], f[6] = full[3] + t4, full[6] - t4
                         starts.append(ch.joints(f))
