@@ -208,7 +208,8 @@ def main(argv: list[str] | None = None) -> int:
     import tempfile
 
     argv = sys.argv[1:] if argv is None else argv
-    if "--if-stale" in argv and info().get("stamp") == source_stamp():
+    built = any(HERE.glob(f"{MODULE}.*.so")) or any(HERE.glob(f"{MODULE}.*.pyd"))
+    if "--if-stale" in argv and built and info().get("stamp") == source_stamp():
         print("ik7r: the compiled kernels are up to date", file=sys.stderr)
         return 0
     if "--child" not in argv:
