@@ -150,8 +150,11 @@ def build(output_dir: Path = HERE, names: list[str] | None = None) -> dict[str, 
     Each entry point is compiled with the options its ``@njit`` gives the JIT (no reference
     counting unless it allocates, the numpy error model of vector loops) and releases the GIL
     as the JIT's ``nogil`` does (the batch functions run it in threads); the kernels it calls
-    are compiled as the JIT compiles them, for the host processor. Must run in a process whose
-    numba cache is empty (see :func:`main`): a kernel loaded from the cache has no code to link.
+    are compiled as the JIT compiles them, for the host processor. Every kernel is compiled
+    afresh (one loaded from numba's cache has no code to link into the module) and saved to
+    numba's cache as the JIT would save it, so the build leaves the JIT's cache warm too: the
+    fallback and the kernels the module calls from the JIT's side (none at run time) start
+    compiled. Run it in a process of its own (see :func:`main`).
     """
     import numba.pycc.compiler as pycc_compiler
     from numba.pycc import CC
@@ -170,6 +173,14 @@ def build(output_dir: Path = HERE, names: list[str] | None = None) -> dict[str, 
         dispatchers[dispatcher.py_func] = dispatcher
         sig = _numba_type(ret)(*(_numba_type(a) for a in args))
         cc.export(name, sig)(dispatcher.py_func)
+
+    from numba.core.registry import CPUDispatcher
+
+    for mod in [m for n, m in sys.modules.items() if n.startswith(f"{__package__}.")]:
+        for value in vars(mod).values():
+            cache = getattr(value, "_cache", None) if isinstance(value, CPUDispatcher) else None
+            if cache is not None:
+                cache.load_overload = lambda sig, target_context: None  # compile, then save as usual
 
     compile_extra = pycc_compiler.compile_extra
 
@@ -201,11 +212,10 @@ def build(output_dir: Path = HERE, names: list[str] | None = None) -> dict[str, 
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m ik7r._kernels.aot [--if-stale]``: build the compiled module (in a process
-    of its own, with an empty numba cache). With ``--if-stale``, only when its stamp does not
+    of its own). With ``--if-stale``, only when its stamp does not
     match the sources. Exit status 0, or 1 when the build failed (the JIT then compiles on
     first use)."""
     import subprocess
-    import tempfile
 
     argv = sys.argv[1:] if argv is None else argv
     built = any(HERE.glob(f"{MODULE}.*.so")) or any(HERE.glob(f"{MODULE}.*.pyd"))
@@ -215,9 +225,8 @@ def main(argv: list[str] | None = None) -> int:
     if "--child" not in argv:
         print("ik7r: compiling the kernels into an extension module (once per installation, "
               "about 2 minutes on 2 cores)", file=sys.stderr, flush=True)
-        with tempfile.TemporaryDirectory(prefix="ik7r-aot-") as cache:
-            env = {**os.environ, "NUMBA_CACHE_DIR": cache, "IK7R_QUIET": "1", "IK7R_AOT": "0"}
-            p = subprocess.run([sys.executable, "-m", "ik7r._kernels.aot", "--child"], env=env)
+        env = {**os.environ, "IK7R_QUIET": "1", "IK7R_AOT": "0"}
+        p = subprocess.run([sys.executable, "-m", "ik7r._kernels.aot", "--child"], env=env)
         if p.returncode != 0:
             print("ik7r: building the compiled kernels failed; the numba JIT compiles them on first "
                   "use instead", file=sys.stderr)
