@@ -27,13 +27,11 @@ demo: $(COMPILED)
 	$(BIN)/ik7r demo
 
 # ruff, the static types of the public API, every test (with the code of the README, the docs
-# pages and the docstrings; in TEST_WORKERS processes, one test file each at a time), then the
-# documentation site with warnings as errors
-TEST_WORKERS ?= 2
+# pages and the docstrings), then the documentation site with warnings as errors
 test: $(COMPILED)
 	$(BIN)/ruff check src tests $(wildcard benchmarks) $(wildcard examples) docs/conf.py docs/_ext
 	$(BIN)/python -m mypy
-	$(BIN)/python -m pytest -n $(TEST_WORKERS) --dist loadfile
+	$(BIN)/python -m pytest
 	$(BIN)/python -m sphinx -b html -W --keep-going -q docs docs/_build/html
 
 # the documentation site, offline, into docs/_build/html (the gallery's figures are drawn here)
