@@ -3,6 +3,12 @@ PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
+# the kernels compiled ahead of time into an extension module (ik7r._kernels.aot), so that no
+# first call compiles and a new process answers without importing numba: built once with the
+# installation and again when a kernel source changes (about 2 minutes on 2 cores). When the
+# build fails (no C compiler), numba's JIT compiles the kernels on first use instead.
+COMPILED := $(VENV)/.compiled
+KERNELS  := $(wildcard src/ik7r/_kernels/*.py) src/ik7r/robot/family.py
 
 .PHONY: demo test bench lint docs typecheck clean
 
@@ -10,27 +16,32 @@ $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e ".[test,docs]"
+	-$(BIN)/python -m ik7r._kernels.aot --if-stale
 	touch $(STAMP)
 
-demo: $(STAMP)
+$(COMPILED): $(STAMP) $(KERNELS)
+	-$(BIN)/python -m ik7r._kernels.aot --if-stale
+	touch $(COMPILED)
+
+demo: $(COMPILED)
 	$(BIN)/ik7r demo
 
 # ruff, the static types of the public API, every test (with the code of the README, the docs
 # pages and the docstrings), then the documentation site with warnings as errors
-test: $(STAMP)
+test: $(COMPILED)
 	$(BIN)/ruff check src tests $(wildcard benchmarks) $(wildcard examples) docs/conf.py docs/_ext
 	$(BIN)/python -m mypy
 	$(BIN)/python -m pytest
 	$(BIN)/python -m sphinx -b html -W --keep-going -q docs docs/_build/html
 
 # the documentation site, offline, into docs/_build/html (the gallery's figures are drawn here)
-docs: $(STAMP)
+docs: $(COMPILED)
 	$(BIN)/python -m sphinx -b html -q docs docs/_build/html
 
 typecheck: $(STAMP)
 	$(BIN)/python -m mypy
 
-bench: $(STAMP)
+bench: $(COMPILED)
 	$(BIN)/python benchmarks/run.py
 	$(BIN)/python benchmarks/edges.py
 	$(BIN)/python benchmarks/film.py
@@ -39,4 +50,4 @@ lint: $(STAMP)
 	$(BIN)/ruff check src tests $(wildcard benchmarks) $(wildcard examples) docs/conf.py docs/_ext
 
 clean:
-	rm -rf $(VENV) build src/*.egg-info .pytest_cache .mypy_cache docs/_build docs/auto_examples docs/api/generated docs/_generated
+	rm -rf $(VENV) build src/ik7r/_kernels/_compiled*.so src/ik7r/_kernels/_compiled.json src/*.egg-info .pytest_cache .mypy_cache docs/_build docs/auto_examples docs/api/generated docs/_generated

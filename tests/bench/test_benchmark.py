@@ -142,9 +142,10 @@ def test_startup_rows_run_the_cli():
     rows = _startup_rows(1)
     names = [r.name for r in rows]
     assert any(n.startswith("ik7r ik ... end to end") for n in names)
-    assert any(n.startswith("import numba") for n in names)
+    assert any(n.startswith("JIT fallback: import numba") for n in names)
     assert any(n.startswith("warm: first ik_all after import ik7r") for n in names)
-    assert not any(n.startswith("cold:") for n in names)  # only when asked (it compiles)
+    assert any(n.startswith("warm, JIT fallback: first ik_all") for n in names)
+    assert not any(n.startswith("cold, JIT fallback") for n in names)  # only when asked (it compiles)
     for r in rows:
         assert r.seconds > 0 and r.failures in (None, 0), r.name
 

@@ -17,11 +17,19 @@ select     indicators, joint limits, nearest to a seed; fused single and batch c
 track      warm-started paths
 film       paint film thickness per mesh vertex over gun poses (with occlusion)
 validate   pose validation inside the compiled batch loops
+bernstein  the Bernstein tables of the root isolation (plain numpy)
 jit        the one place that knows numba
+aot        the entry points compiled ahead of time into an extension module
 ========== ===========================================================================
+
+The entry points named in :data:`.aot.SIGNATURES` come from the compiled extension module when
+it is built and matches the sources (then numba is not imported), else from numba's JIT.
 """
 
 from __future__ import annotations
+
+import importlib
+import sys
 
 from .._lazy import lazy_exports
 
@@ -32,7 +40,7 @@ _EXPORTS = {
     "residual": "fk", "user_angle": "fk", "pose_error": "fk", "solve6": "fk",
     "arm_ik": "arm",
     "d_of_theta5": "wrist", "theta5_of_cos_bend": "wrist", "wrist_ik": "wrist", "wrist_target": "wrist",
-    "bernstein_tables": "poly",
+    "bernstein_tables": "bernstein",
     "frame07": "complete",
     "all_rows": "select", "config_rows": "select", "ik_all_one": "select", "ik_one": "select",
     "matches": "select",
@@ -42,7 +50,19 @@ _EXPORTS = {
     "validate_pose": "validate", "validate_poses": "validate",
 }
 
-__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, _MODULES)
+_jit_getattr, __dir__ = lazy_exports(__name__, _EXPORTS, _MODULES)
+
+
+def __getattr__(name: str):
+    aot = importlib.import_module(f"{__name__}.aot")  # (not "from . import": that asks __getattr__)
+    if name in aot.SIGNATURES:
+        compiled = aot.load()
+        if compiled is not None:
+            value = getattr(compiled, name)
+            setattr(sys.modules[__name__], name, value)  # found directly from now on
+            return value
+    return _jit_getattr(name)
+
 __all__ = [
     "bernstein_tables",
     "film_kernel",

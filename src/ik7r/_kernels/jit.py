@@ -3,7 +3,9 @@
 The kernels are written in the subset of Python that numba compiles. When numba is not
 importable they run as plain Python (slow, but the same code and the same answers).
 Compiled kernels are cached on disk (``cache=True``), so the compile cost is paid once per
-installation, not at import time and not per process.
+installation, not at import time and not per process. The entry points of a typical session
+are also compiled at installation into an extension module (:mod:`.aot`), which then answers
+without numba; this JIT is its fallback and compiles everything else.
 
 Two things happen here beside compiling:
 

@@ -5,11 +5,14 @@ or pointed at an empty directory (``NUMBA_CACHE_DIR``: cold, every kernel compil
 
     python -m ik7r.bench.probe_startup [--first-answer] [ROBOT]
 
-Prints one JSON line of seconds. By default: ``numpy`` and ``numba`` (their imports),
-``ik7r`` (``import ik7r`` and ``load_robot``), ``first_kernel`` (the first ``robot.fk``) and
-``first_ik`` (the first ``robot.ik_all`` after it). With ``--first-answer``: what a user
-sees, ``import`` (``import ik7r`` and ``load_robot``) and ``first_answer`` (``robot.ik_all``
-as the process's first compiled call; the pose is made with numpy).
+Prints one JSON line of seconds. By default (the stages of numba's JIT route; the benchmark
+runs it with ``IK7R_AOT=0``): ``numpy`` and ``numba`` (their imports), ``ik7r`` (``import ik7r``
+and ``load_robot``), ``first_kernel`` (the first ``robot.fk``) and ``first_ik`` (the first
+``robot.ik_all`` after it). With ``--first-answer``: what a user sees, ``import`` (``import
+ik7r`` and ``load_robot``) and ``first_answer`` (``robot.ik_all`` as the process's first
+compiled call; the pose is made with numpy), with ``compiled`` (1 when the answer came from
+the kernels compiled ahead of time, :mod:`ik7r._kernels.aot`) and ``numba`` (1 when numba was
+imported).
 """
 
 from __future__ import annotations
@@ -31,7 +34,10 @@ def first_answer(robot_name: str | None) -> dict[str, float]:
     t1 = time.perf_counter()
     robot.ik_all(T)
     t2 = time.perf_counter()
-    return {"import": t1 - t0, "first_answer": t2 - t1}
+    from ik7r._kernels import aot
+
+    return {"import": t1 - t0, "first_answer": t2 - t1, "compiled": float(aot.load() is not None),
+            "numba": float("numba" in sys.modules)}
 
 
 def stages(robot_name: str | None) -> dict[str, float]:

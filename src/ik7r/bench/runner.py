@@ -94,12 +94,15 @@ def run_benchmarks(robot: Robot | None = None, *, quick: bool = False, n: int | 
     sizes : Sizes, optional
         Every size explicitly.
     startup : bool
-        Time fresh processes (numba import and cache load, the first ``ik_all`` after
-        ``import ik7r``, ``ik7r ik`` end to end).
+        Time fresh processes: the first ``ik_all`` after ``import ik7r`` (with the kernels
+        compiled at installation, :mod:`ik7r._kernels.aot`, and on the JIT fallback route:
+        numba import and cache load), ``ik7r ik`` end to end.
     cold : bool, optional
-        With ``startup``, also time a fresh installation's first ``ik_all`` (a process with
-        an empty numba cache directory: every kernel it needs compiles, about a minute).
-        Default: not with ``quick``.
+        With ``startup``, also time a fresh installation's first ``ik_all`` on the JIT
+        fallback route (``IK7R_AOT=0`` and an empty numba cache directory: every kernel it
+        needs compiles, about a minute). Default: not with ``quick``. The cold row of the
+        compiled route (an empty numba cache, nothing compiles) runs whenever the compiled
+        module is there.
     baselines : bool
         Time the paper's iteration, Newton-Raphson, DLS, scipy and pinocchio.
     pinocchio : bool

@@ -66,6 +66,16 @@ def _one_line(text: str) -> str:
     return line if len(line) <= 2000 else line[:1997] + "..."
 
 
+def _compiled_kernels() -> bool:
+    """Whether the kernels compiled at installation are there (:mod:`ik7r._kernels.aot`): they
+    answer one pose without numba's start-up, faster than plain Python."""
+    if os.environ.get("IK7R_JIT", "1") == "0":
+        return False
+    from .._kernels import aot
+
+    return aot.load() is not None
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``ik7r`` console script: never a traceback, one line on stderr.
 
@@ -94,7 +104,8 @@ def main(argv: list[str] | None = None) -> int:
             args = parser.parse_args(argv)
             if args.command is None:
                 raise CliError("give a command (ik7r --help lists them)")
-            if args.command in FAST_START and "ik7r._kernels.jit" not in sys.modules:
+            if (args.command in FAST_START and "ik7r._kernels.jit" not in sys.modules
+                    and not _compiled_kernels()):
                 os.environ.setdefault("IK7R_JIT", "0")  # one pose: plain Python beats numba's start-up
             return int(args.run(args) or 0)
     except SystemExit as exc:  # --help, --version
