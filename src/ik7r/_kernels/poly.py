@@ -417,27 +417,48 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure, bcoef, work):
 
 
 @njit
+def secant_point(x0, x1, f0, f1):
+    """The secant's zero between ``x0`` and ``x1`` (values ``f0``, ``f1`` of opposite signs), or
+    their midpoint where rounding puts it outside."""
+    x = (x0 * f1 - x1 * f0) / (f1 - f0)
+    if not (min(x0, x1) < x < max(x0, x1)):
+        x = 0.5 * (x0 + x1)
+    return x
+
+
+@njit
+def illinois_step(x0, x1, f0, f1, side, x, fx):
+    """One step of the Illinois (safeguarded secant) method: the bracket [x0, x1] with values
+    ``f0``, ``f1`` of opposite signs shrunk to the new point ``x`` (value ``fx``, nonzero), the
+    value kept at the end that stays twice in a row halved. ``side``: which end moved last
+    (0 at the start). Returns (x0, x1, f0, f1, side, done); done when the bracket is down to
+    the last bits. Every root finder on a bracket uses it (:func:`_illinois`,
+    :func:`ik7r._kernels.complete._gap_root`)."""
+    if (fx > 0.0) == (f1 > 0.0):
+        x1, f1 = x, fx
+        if side == -1:
+            f0 *= 0.5
+        side = -1
+    else:
+        x0, f0 = x, fx
+        if side == 1:
+            f1 *= 0.5
+        side = 1
+    done = abs(x1 - x0) <= 4e-16 * max(abs(x0), abs(x1)) + 1e-300
+    return x0, x1, f0, f1, side, done
+
+
+@njit
 def _illinois(kind, x0, x1, f0, f1, p, a, K):
-    """The root of ``f`` bracketed by [x0, x1] with ``f0``, ``f1`` of opposite signs."""
+    """The root of the residual ``kind`` bracketed by [x0, x1] (``f0``, ``f1`` of opposite signs)."""
     side = 0
     for _ in range(200):
-        x = (x0 * f1 - x1 * f0) / (f1 - f0)
-        if not (min(x0, x1) < x < max(x0, x1)):
-            x = 0.5 * (x0 + x1)
+        x = secant_point(x0, x1, f0, f1)
         fx = residual_of(kind, x, p, a, K)[0]
         if fx == 0.0:
             return x
-        if (fx > 0.0) == (f1 > 0.0):
-            x1, f1 = x, fx
-            if side == -1:
-                f0 *= 0.5
-            side = -1
-        else:
-            x0, f0 = x, fx
-            if side == 1:
-                f1 *= 0.5
-            side = 1
-        if abs(x1 - x0) <= 4e-16 * max(abs(x0), abs(x1)):
+        x0, x1, f0, f1, side, done = illinois_step(x0, x1, f0, f1, side, x, fx)
+        if done:
             break
     return x0 if abs(f0) < abs(f1) else x1
 
