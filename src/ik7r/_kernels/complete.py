@@ -884,8 +884,8 @@ def _scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     of the four arm branches scanned as the bend gap is (:func:`_scan_piece`), in ``sw =
     sqrt(u - cos(2 beta))`` (proportional to sin((pi - theta5) / 2): solutions close to the fold
     stay apart on the grid) from the fold (0) to just past where the polynomial search begins."""
-    return _scan_theta5(0.0, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint, has_hint, out, count,
-                        filt, ws, mats, 2.0)
+    return _scan_theta5(0.0, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint, has_hint, out,
+                        count, filt, ws, mats, 2.0)
 
 
 @njit
