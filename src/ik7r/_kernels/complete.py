@@ -25,9 +25,12 @@ from .poly import (
     ISOLATE_WORK,
     MAX_DEGREE,
     REFINE_GRID,
-    _golden,
+    _least_abs,
     _newton_on_bracket,
     bend_row_on_axis,
+    brent_next,
+    brent_start,
+    brent_take,
     illinois_step,
     isolate,
     linear_system,
@@ -561,18 +564,15 @@ def _gap_root(t0, t1, g0, g1, p, a, front, elbow, K, th):
 
 @njit
 def _gap_min(t0, t1, p, a, front, elbow, K, th):
-    """The least |bend gap| in [t0, t1] (golden section); (t, |gap|)."""
-    g = 0.5 * (math.sqrt(5.0) - 1.0)
-    for _ in range(50):
-        x1 = t1 - g * (t1 - t0)
-        x2 = t0 + g * (t1 - t0)
-        f1, ok1 = _gap(x1, p, a, front, elbow, K, th)
-        f2, ok2 = _gap(x2, p, a, front, elbow, K, th)
-        if ok1 and (not ok2 or abs(f1) < abs(f2)):
-            t1 = x2
-        else:
-            t0 = x1
-    t = 0.5 * (t0 + t1)
+    """The least |bend gap| in [t0, t1] (Brent's minimiser); (t, |gap|)."""
+    st, t = brent_start(t0, t1)
+    for _ in range(200):
+        f, ok = _gap(t, p, a, front, elbow, K, th)
+        st = brent_take(st, t, abs(f) if ok else np.inf)
+        st, t, done = brent_next(st)
+        if done:
+            break
+    t = st[2]
     f, ok = _gap(t, p, a, front, elbow, K, th)
     return t, abs(f) if ok else np.inf
 
@@ -582,7 +582,7 @@ def _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws,
     """Every solution with theta5 in [ta, tb] (an interval the residual polynomial left
     undecided: its values there are within their rounding of zero), from the bend gap of each
     of the four arm branches (:func:`_bend_gap`) on a grid: sign changes refined to the last
-    bits, dips of |gap| (tangential roots, or two roots in one cell) refined by golden section
+    bits, dips of |gap| (tangential roots, or two roots in one cell) refined by Brent's minimiser
     and split at the dip. Where a branch ends inside a cell (the elbow stretches) the end is
     found by bisection and the piece between it and the grid is scanned on a grid of its own.
     Each candidate is completed with the wrist and verified on the forward kinematics.
@@ -959,7 +959,7 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
         fa = abs(fs[i])
         if (fa <= abs(fs[i - 1]) and fa <= abs(fs[i + 1]) and fs[i - 1] * fs[i] > 0.0
                 and fs[i] * fs[i + 1] > 0.0 and fa < NEAR_RATIO * ms[i] and count < roots.shape[0]):
-            u = _golden(kind, lo + (hi - lo) * (i - 1) / m, lo + (hi - lo) * (i + 1) / m, p, a, K)
+            u = _least_abs(kind, lo + (hi - lo) * (i - 1) / m, lo + (hi - lo) * (i + 1) / m, p, a, K)
             h = 0.5 * (hi - lo) / m
             for v in (u, u - h, u + h):  # the minimum and starts on either side of it
                 if abs(v) > 1e-12 and count < roots.shape[0]:
