@@ -76,6 +76,9 @@ MERGE_WINDOW = 1e-2
 #: zero (rad) a local minimum of its bend gap must come to be a candidate (exact, deviating).
 SCAN_GRID = 32
 SCAN_PIECES = 12  # the grid and the pieces (next to branch ends, around dips) it may add
+#: Pieces narrower than this (relative to 1 + |start|, in their own variable) are not gridded:
+#: one candidate from their sign change or their least |gap| (see :func:`_scan_piece`).
+SCAN_TINY = 1e-10
 #: The theta1 scan runs where the line of virtual centres passes this close (relative to the
 #: robot's size) to axis 1.
 SHOULDER_NEAR = 1e-5
@@ -270,9 +273,27 @@ def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
                 polish(q, Td, K[L.HOMOTOPY + k * L.BASE_SIZE:L.HOMOTOPY + (k + 1) * L.BASE_SIZE], 4)
             if not polish(q, Td, K, 30):
                 return count, False
+        elif _known(q, out, count):
+            return count, True  # the solution it would polish to is there (see _known)
         elif not polish(q, Td, K, 8):
             return count, False
     return _add(q, out, count, Td, K, mats), True
+
+
+@njit
+def _known(q, out, count):
+    """Whether the candidate ``q`` is within DUP_TOL (every joint) of a solution in
+    ``out[:count]``: it is that solution (two solutions that close are one), so polishing it,
+    which on the flat forward kinematics of a singular arm or wrist takes all of Newton's
+    steps, would only find it again. (Not for models that deviate from the idealised one,
+    whose candidates are followed to the exact model one by one.)"""
+    for k in range(count):
+        far = 0.0
+        for i in range(6):
+            far = max(far, abs(wrap(out[k, i] - q[i])))
+        if far <= DUP_TOL:
+            return True
+    return False
 
 
 @njit
@@ -613,6 +634,20 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
     gs = ws[_SCAN:_SCAN + m + 1]
     th = ws[_TH:_TH + _NTH]
     near = SCAN_NEAR if K[L.DEVIATION] == 0.0 else SCAN_NEAR_DEVIATING
+    if tb - ta <= SCAN_TINY * (1.0 + abs(ta)):
+        # a piece this narrow (an undecided bracket of the polynomial at its width limit) holds
+        # roots within SCAN_TINY of each other, which its grid would not tell apart from rounding
+        # (every grid point could look like a dip): its sign change, else its least |gap|
+        g0, ok0 = _gap(ta, p, a, front, elbow, K, th)
+        g1, ok1 = _gap(tb, p, a, front, elbow, K, th)
+        if ok0 and ok1 and g0 * g1 < 0.0:
+            t = _gap_root(ta, tb, g0, g1, p, a, front, elbow, K, th)
+        else:
+            t, fm = _gap_min(ta, tb, p, a, front, elbow, K, th)
+            if not fm < near:
+                return count, npieces
+        return _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt,
+                              ws, mats), npieces
     for i in range(m + 1):
         g, ok = _gap(ta + (tb - ta) * i / m, p, a, front, elbow, K, th)
         gs[i] = g if ok else np.nan
@@ -647,7 +682,7 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
         if not have and i < m and math.isfinite(gs[i + 1]) and gi * gs[i + 1] < 0.0:
             t = _gap_root(ti, ta + (tb - ta) * (i + 1) / m, gi, gs[i + 1], p, a, front, elbow, K, th)
             have = True
-        elif (not have and (i == 0 or not math.isfinite(gs[i - 1]) or abs(gi) <= abs(gs[i - 1]))
+        elif (not have and (i == 0 or not math.isfinite(gs[i - 1]) or abs(gi) < abs(gs[i - 1]))
               and (i == m or not math.isfinite(gs[i + 1]) or abs(gi) <= abs(gs[i + 1]))):
             # a dip of |gap|: a tangential root, or two roots within one grid cell
             lo_i = max(0, i - 1)

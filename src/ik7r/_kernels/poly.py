@@ -586,7 +586,8 @@ def brent_start(lo, hi):
     took 100 or more."""
     x = lo + _CGOLD * (hi - lo)
     inf = math.inf
-    return (lo, hi, x, x, x, inf, inf, inf, 0.0, 0.0, _BRENT_TOL * (hi - lo) + 1e-300), x
+    tol = _BRENT_TOL * (hi - lo) + 4.4e-16 * max(abs(lo), abs(hi)) + 1e-300  # (not below float spacing)
+    return (lo, hi, x, x, x, inf, inf, inf, 0.0, 0.0, tol), x
 
 
 @njit
