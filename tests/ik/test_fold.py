@@ -43,13 +43,13 @@ def eq1_fk(robot, q):
 
 def found(robot, sols, q, T):
     """Whether the source ``q`` is among the answers: within 1e-7 rad, within ONE_SOLUTION beside
-    the fold, or joined to an answer by a segment whose 9 points all meet the tolerances (where
+    the fold (not at it: there the solution is one), or joined to an answer by a segment whose 9 points all meet the tolerances (where
     the FK is flat at the fold, any point of that valley is the solution)."""
     if len(sols) == 0:
         return False
     dist = np.abs(wrap(sols - q)).max(axis=1)
     k = int(np.argmin(dist))
-    if dist[k] <= 1e-7 or dist[k] <= ONE_SOLUTION and np.pi - abs(wrap(q[4])) < 1e-4:
+    if dist[k] <= 1e-7 or dist[k] <= ONE_SOLUTION and 0.0 < np.pi - abs(wrap(q[4])) < 1e-4:
         return True
     if dist[k] >= 1e-2:
         return False

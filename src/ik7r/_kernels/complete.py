@@ -672,9 +672,9 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
             npieces += 1
         if not math.isfinite(gi):
             continue
-        if gi != 0.0 and abs(gi) < near and (i == 0 or i == m):
-            # a root at an end of the piece (the fully bent wrist itself, where the fold gap of
-            # a fold pose vanishes): a candidate whatever the cell beside it holds
+        if abs(front) == 2.0 and i == 0 and gi != 0.0 and abs(gi) < near:
+            # the fold scan's start is the fully bent wrist itself, where the fold gap of a pose
+            # made there vanishes: a candidate whatever the cell beside it holds
             count = _gap_candidate(ti, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count,
                                    filt, ws, mats)
         t = ti
