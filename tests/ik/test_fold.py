@@ -43,8 +43,9 @@ def eq1_fk(robot, q):
 
 def found(robot, sols, q, T):
     """Whether the source ``q`` is among the answers: within 1e-7 rad, within ONE_SOLUTION beside
-    the fold (not at it: there the solution is one), or joined to an answer by a segment whose 9 points all meet the tolerances (where
-    the FK is flat at the fold, any point of that valley is the solution)."""
+    the fold (not at it: there the solution is one), or joined to an answer by a segment whose
+    9 points all meet the tolerances (where the FK is flat at the fold, any point of that valley
+    is the solution)."""
     if len(sols) == 0:
         return False
     dist = np.abs(wrap(sols - q)).max(axis=1)
