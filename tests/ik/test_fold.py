@@ -23,21 +23,25 @@ from ik7r.robot import Robot
 ONE_SOLUTION = 1e-5
 
 
-def generated(beta_deg, a1=0.0, a3=0.0, b=0.0, d4=1200.0, d7=110.0):
-    """A family member (mm) of wrist twist ``beta_deg``, joint signs +1, no theta offsets."""
+def generated(beta_deg, a1=0.0, a3=0.0, b=0.0, d4=1200.0, d7=110.0, dw=90.0, sign=None, offset=None):
+    """A family member (mm) of wrist twist ``beta_deg`` (joint signs and theta offsets optional)."""
     be = math.radians(beta_deg)
     dh = np.array([[0, 0, 400, 0], [a1, math.pi / 2, b, 0], [1100, 0, 0, 0], [a3, math.pi / 2, d4, 0],
-                   [0, -be, 90, 0], [0, 2 * be, 90, 0], [0, -be, d7, 0]], float)
-    return Robot(name=f"b{beta_deg:g}", dh=dh)
+                   [0, -be, dw, 0], [0, 2 * be, dw, 0], [0, -be, d7, 0]], float)
+    if offset is not None:
+        dh[:, 3] = offset
+    signs = np.ones(7) if sign is None else np.array(sign, float)
+    return Robot(name=f"b{beta_deg:g}", dh=dh, joint_sign=signs)
 
 
 def eq1_fk(robot, q):
-    """Eq. (1) product of the seven DH rows (theta6 = -theta5), independent of ik7r's kernels."""
-    theta = [q[0], q[1], q[2], q[3], q[4], -q[4], q[5]]
+    """Eq. (1) product of the seven DH rows (q6 = -q5; DH angle sign * q + offset), independent
+    of ik7r's kernels."""
+    joints = [q[0], q[1], q[2], q[3], q[4], -q[4], q[5]]
     T = np.eye(4)
-    for row, t in zip(robot.dh, theta):
+    for row, s, t in zip(robot.dh, robot.joint_sign, joints):
         a, alpha, d, offset = row
-        T = T @ dh_link(a, math.degrees(alpha), t + offset, d)
+        T = T @ dh_link(a, math.degrees(alpha), s * t + offset, d)
     return T
 
 
@@ -83,6 +87,8 @@ ROBOTS = {
     "b45_offsets": generated(45, a1=250, a3=150),
     "b45_lateral": generated(45, a1=120, a3=-80, b=60, d4=900, d7=140),
     "b44.8": generated(44.8, a1=200, a3=100),
+    "b-45_mirrored": generated(-45, a1=200, a3=120, dw=-90, sign=[1, -1, 1, -1, 1, 1, -1],
+                               offset=[0.1, 0.3, -0.2, 0.5, 0.0, 0.0, 0.7]),
     "paper": None,
 }
 
