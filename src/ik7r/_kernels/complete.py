@@ -763,7 +763,7 @@ def _fold_gap(sw, p, a, front, elbow, K, th):
     the gap is ``|O - O4| / (2 |KW|) - 1``. Writes DH cosines and sines of theta1..3 into
     ``th[:6]`` (as :func:`_arm_from_psi`), theta5 (DH, in [0, pi]) into ``th[6]`` and O4 (frame 0)
     into ``th[7:10]``. Returns (gap, ok); ok is False where the branch does not reach."""
-    u = _u_fold(K) + sw * sw
+    u = _u_fold(K) + sw * abs(sw)  # (sw < 0: u below the fold, scanned for deviating models)
     kw = K[L.KW]
     a1 = K[L.A1]
     a2 = K[L.A2]
@@ -800,17 +800,18 @@ def _fold_gap(sw, p, a, front, elbow, K, th):
     # |X|^2 - |v|^2 = D / u with the terms of order 1 / u^2 cancelled exactly
     dd = (u * (ox * ox + oy * oy + oz * oz - b * b + a1 * a1 + d1 * d1 - a3 * a3 - d4 * d4)
           - 2.0 * kw * (ox * a[0] + oy * a[1] + oz * a[2] + d4) - 2.0 * (a1 * rho + d1 * hz))
-    dt = dd / (nx + nv)  # (|X| - |v|) / u
+    su = 1.0 if u >= 0.0 else -1.0  # (u < 0: the scaled vectors point the other way)
+    dt = su * dd / (nx + nv)  # |X| - |v|
     s2 = a2 * a2 - dt * dt
     if s2 < -1e-12 * a2 * a2:
         return 0.0, False  # the elbow does not reach
     root = math.sqrt(max(s2, 0.0) / (nx * nv))
-    half = math.asin(min(1.0, 0.5 * u * root))  # half the angle between X and R(psi) v
+    half = math.asin(min(1.0, 0.5 * abs(u) * root))  # half the angle between X and R(psi) v
     psi = math.atan2(xy, xx) - math.atan2(-e3 * lh, u * a3) + 2.0 * elbow * half
     # theta2: the angle at the shoulder between X and the upper arm (its sine from the law of
     # sines, both finite as u goes to 0)
-    gamma = math.atan2(nv * root * math.cos(half) / a2, (dd + u * a2 * a2) / (2.0 * a2 * nx))
-    t2 = math.atan2(xy, xx) - elbow * gamma  # (a2 > 0: ik7r.robot.family.frame_dh)
+    gamma = math.atan2(nv * root * math.cos(half) / a2, (su * dd + abs(u) * a2 * a2) / (2.0 * a2 * nx))
+    t2 = math.atan2(su * xy, su * xx) - elbow * gamma  # (a2 > 0: ik7r.robot.family.frame_dh)
     c1, s1 = math.cos(t1), math.sin(t1)
     c2, s2_ = math.cos(t2), math.sin(t2)
     cp, sp = math.cos(psi), math.sin(psi)
@@ -833,8 +834,9 @@ def _fold_gap(sw, p, a, front, elbow, K, th):
 @njit
 def _fold_eps(sw, K):
     """``eps = pi - theta5`` (>= 0) of the wrist at ``u = cos(2 beta) + sw^2``: ``sw =
-    sqrt(2) |sin(beta)| sin(eps / 2)`` (u is quadratic in eps, sw linear)."""
-    return 2.0 * math.asin(min(1.0, abs(sw) / (math.sqrt(2.0) * abs(K[L.SB]))))
+    sqrt(2) |sin(beta)| sin(eps / 2)`` (u is quadratic in eps, sw linear); 0 for ``sw < 0``
+    (theta5 clamped to pi)."""
+    return 2.0 * math.asin(min(1.0, max(sw, 0.0) / (math.sqrt(2.0) * abs(K[L.SB]))))
 
 
 @njit
@@ -919,8 +921,15 @@ def _scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     of the four arm branches scanned as the bend gap is (:func:`_scan_piece`), in ``sw =
     sqrt(u - cos(2 beta))`` (proportional to sin((pi - theta5) / 2): solutions close to the fold
     stay apart on the grid) from the fold (0) to just past where the polynomial search begins."""
-    return _scan_theta5(0.0, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint, has_hint, out,
-                        count, filt, ws, mats, 2.0)
+    start = 0.0
+    if K[L.DEVIATION] > 0.0:
+        # the exact model's solutions at the fold may come from nominal roots beyond it (u below
+        # cos(2 beta), down to 2 % of the range as the polynomial's range is padded; theta5
+        # clamped to pi): near a fold at infinity a twist 1e-4 rad off moves the virtual centre
+        # by d 1e-4, and it may come back from the other side (u < 0)
+        start = -math.sqrt(0.02 * (1.0 - _u_fold(K)))
+    return _scan_theta5(start, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint, has_hint,
+                        out, count, filt, ws, mats, 2.0)
 
 
 @njit
