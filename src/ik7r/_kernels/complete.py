@@ -921,14 +921,14 @@ def _scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     of the four arm branches scanned as the bend gap is (:func:`_scan_piece`), in ``sw =
     sqrt(u - cos(2 beta))`` (proportional to sin((pi - theta5) / 2): solutions close to the fold
     stay apart on the grid) from the fold (0) to just past where the polynomial search begins."""
-    start = 0.0
     if K[L.DEVIATION] > 0.0:
         # the exact model's solutions at the fold may come from nominal roots beyond it (u below
         # cos(2 beta), down to 2 % of the range as the polynomial's range is padded; theta5
         # clamped to pi): near a fold at infinity a twist 1e-4 rad off moves the virtual centre
         # by d 1e-4, and it may come back from the other side (u < 0)
-        start = -math.sqrt(0.02 * (1.0 - _u_fold(K)))
-    return _scan_theta5(start, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint, has_hint,
+        count = _scan_theta5(-math.sqrt(0.02 * (1.0 - _u_fold(K))), 0.0, p, a, R07, Td, K, hint,
+                             has_hint, out, count, filt, ws, mats, 2.0)
+    return _scan_theta5(0.0, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint, has_hint,
                         out, count, filt, ws, mats, 2.0)
 
 
