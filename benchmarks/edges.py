@@ -3,8 +3,10 @@
 Public API only. For each robot: poses from uniform joints, and poses on the singular sets
 (straight wrist q5 = 0 and within 1e-9 .. 1e-3 of it, fully bent wrist near q5 = 180 deg,
 stretched elbow, virtual wrist centre near axis 1 for robots without lateral offset). Prints
-median, 99th percentile and worst time per call of ``robot.ik_all(T)`` and how many source
-joint vectors were not among the answers. Run: ``python benchmarks/edges.py [N]``.
+median, 99th percentile and worst time per call of ``robot.ik_all(T)`` (each pose the least of
+REPEATS calls) and how many source joint vectors were not among the answers (within 1e-6 rad; at a
+straight wrist through q4 + q7; beside a fully bent wrist within 1e-5, where the solver counts the
+two wrist solutions as one). Run: ``python benchmarks/edges.py [N]``.
 """
 
 from __future__ import annotations
@@ -44,7 +46,8 @@ def _singular_poses(robot: Robot, rng, n: int) -> np.ndarray:
     k = n // 4
     Q[:k, 4] = 0.0
     Q[k:2 * k, 4] = rng.choice([-1, 1], k) * 10.0 ** rng.uniform(-9, -3, k)
-    Q[2 * k:3 * k, 4] = np.pi - 10.0 ** rng.uniform(-9, -3, k)
+    Q[2 * k:3 * k, 4] = rng.choice([-1, 1], k) * (np.pi - 10.0 ** rng.uniform(-9, -3, k))
+    Q[2 * k:3 * k:4, 4] = np.pi  # the fully bent wrist itself
     Q[3 * k:, 2] = rng.choice([-1, 1], n - 3 * k) * (np.pi / 2 - 10.0 ** rng.uniform(-9, -3, n - 3 * k))
     return _wrap(Q)
 
@@ -52,8 +55,11 @@ def _singular_poses(robot: Robot, rng, n: int) -> np.ndarray:
 def _found(robot: Robot, sols: np.ndarray, q: np.ndarray) -> bool:
     if len(sols) == 0:
         return False
-    if np.abs(_wrap(sols - q)).max(axis=1).min() < 1e-6:
+    near = np.abs(_wrap(sols - q)).max(axis=1).min()
+    if near < 1e-6:
         return True
+    if np.pi - abs(_wrap(q[4])) < 1e-4 and near <= 1e-5:
+        return True  # the two wrist solutions +-(pi - eps) beside the fold are one below 1e-5 apart
     if abs(_wrap(q[4])) < 1e-3:
         s4, s7 = robot.joint_sign[3], robot.joint_sign[6]
         rest = np.abs(_wrap(sols[:, [0, 1, 2, 4]] - q[[0, 1, 2, 4]])).max(axis=1)
@@ -62,15 +68,21 @@ def _found(robot: Robot, sols: np.ndarray, q: np.ndarray) -> bool:
     return False
 
 
+#: Each pose is timed this many times and its least time kept: on a shared machine another
+#: process's time slice (about 4 ms) otherwise lands on single calls and makes the percentiles.
+REPEATS = 3
+
+
 def _time(robot: Robot, Q: np.ndarray) -> tuple[np.ndarray, int]:
     T = robot.fk(Q)
     robot.ik_all(T[0])  # compiled before timing
-    times = np.empty(len(Q))
+    times = np.full(len(Q), np.inf)
     missed = 0
     for i in range(len(Q)):
-        t0 = time.perf_counter()
-        sols = robot.ik_all(T[i])
-        times[i] = time.perf_counter() - t0
+        for _ in range(REPEATS):
+            t0 = time.perf_counter()
+            sols = robot.ik_all(T[i])
+            times[i] = min(times[i], time.perf_counter() - t0)
         missed += not _found(robot, sols, Q[i])
     return times, missed
 
@@ -80,7 +92,8 @@ def main(argv: list[str]) -> int:
     rng = np.random.default_rng(12)
     paper = ik7r.load_robot()
     robots = [paper, ik7r.load_robot("irb5400"), _generated(35, 250, 150, "offsets_b35"),
-              _generated(45, 250, 150, "offsets_b45"), _rounded(_generated(35, 250, 150, "x"), "rounded_b35")]
+              _generated(45, 250, 150, "offsets_b45"), _rounded(_generated(35, 250, 150, "x"), "rounded_b35"),
+              _rounded(_generated(45, 250, 150, "x"), "rounded_b45")]
     print(f"ik_all per call, {n} poses per row (us); missed = sources not among the answers")
     print(f"{'robot':14s} {'poses':9s} {'median':>8s} {'p99':>8s} {'max':>9s} {'missed':>7s}")
     for robot in robots:

@@ -25,15 +25,28 @@ from .poly import (
     ISOLATE_WORK,
     MAX_DEGREE,
     REFINE_GRID,
-    _golden,
+    _least_abs,
     _newton_on_bracket,
     bend_row_on_axis,
+    brent_next,
+    brent_start,
+    brent_take,
+    illinois_step,
     isolate,
     linear_system,
     refine,
     residual_of,
+    secant_point,
 )
-from .wrist import d_of_theta5, theta5_cs_of_d, theta5_of_bend, wrist_ik_cs, wrist_target
+from .wrist import (
+    d_of_theta5,
+    theta5_cs_of_d,
+    theta5_of_bend,
+    wrist_ik_cs,
+    wrist_rotation_cs,
+    wrist_t7,
+    wrist_target,
+)
 
 TWO_PI = 2.0 * math.pi
 DUP_TOL = 1e-5  # two solutions closer than this (rad, every joint) are one (near a singular arm or
@@ -63,6 +76,9 @@ MERGE_WINDOW = 1e-2
 #: zero (rad) a local minimum of its bend gap must come to be a candidate (exact, deviating).
 SCAN_GRID = 32
 SCAN_PIECES = 12  # the grid and the pieces (next to branch ends, around dips) it may add
+#: Pieces narrower than this (relative to 1 + |start|, in their own variable) are not gridded:
+#: one candidate from their sign change or their least |gap| (see :func:`_scan_piece`).
+SCAN_TINY = 1e-10
 #: The theta1 scan runs where the line of virtual centres passes this close (relative to the
 #: robot's size) to axis 1.
 SHOULDER_NEAR = 1e-5
@@ -71,6 +87,13 @@ SHOULDER_NEAR = 1e-5
 DEVIATING_ENDS = 2e-2
 SCAN_NEAR = 1e-7
 SCAN_NEAR_DEVIATING = 1e-2
+#: Robots whose fully bent wrist is nearly folded back (``u = cos(2 beta)`` below FOLD_NEAR, a
+#: twist within about 0.6 deg of 45 deg): their virtual centre runs off to infinity near
+#: theta5 = pi, where the residual polynomial cannot be evaluated. The FOLD_SPAN of u next to
+#: the fold is searched with the fold gap instead (:func:`_fold_gap`, finite there), the rest by
+#: the polynomial.
+FOLD_NEAR = 0.02
+FOLD_SPAN = 0.05
 
 #: Largest number of Bernstein coefficients, and of brackets.
 _NB = MAX_DEGREE + 1
@@ -91,7 +114,7 @@ def _offsets(**sizes):
 # pose: a view of a stack entry costs nothing, a reshape does); these are their indices.
 _T07, _R07, _M, _Q, _T, _WR, _PSI = range(7)
 _W, WORK_SIZE = _offsets(
-    MATS=7 * 16, P=3, A=3, TH=7, Q6=6, QQ=6,
+    MATS=7 * 16, P=3, A=3, TH=10, Q6=6, QQ=6,
     BLO=_NBRACKETS, BHI=_NBRACKETS, BSURE=_NBRACKETS, FOUND=REFINE_GRID + 2,
     BCOEF=_NBRACKETS * _NB, CAST=_NB, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP, NB=1,
     SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES,
@@ -100,6 +123,7 @@ _MATS, _P, _A, _TH, _Q6, _QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"],
 _BLO, _BHI, _BSURE, _FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
 _BCOEF, _CAST, _ISO, _ROOTS = _W["BCOEF"], _W["CAST"], _W["ISO"], _W["ROOTS"]
 _NBK, _SCAN, _SUB = _W["NB"], _W["SCAN"], _W["SUB"]
+_NTH = 10  # the arm's cosines and sines, theta5, and O4 (see :func:`_fold_gap`)
 
 
 @njit
@@ -249,9 +273,27 @@ def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
                 polish(q, Td, K[L.HOMOTOPY + k * L.BASE_SIZE:L.HOMOTOPY + (k + 1) * L.BASE_SIZE], 4)
             if not polish(q, Td, K, 30):
                 return count, False
+        elif _known(q, out, count):
+            return count, True  # the solution it would polish to is there (see _known)
         elif not polish(q, Td, K, 8):
             return count, False
     return _add(q, out, count, Td, K, mats), True
+
+
+@njit
+def _known(q, out, count):
+    """Whether the candidate ``q`` is within DUP_TOL (every joint) of a solution in
+    ``out[:count]``: it is that solution (two solutions that close are one), so polishing it,
+    which on the flat forward kinematics of a singular arm or wrist takes all of Newton's
+    steps, would only find it again. (Not for models that deviate from the idealised one,
+    whose candidates are followed to the exact model one by one.)"""
+    for k in range(count):
+        far = 0.0
+        for i in range(6):
+            far = max(far, abs(wrap(out[k, i] - q[i])))
+        if far <= DUP_TOL:
+            return True
+    return False
 
 
 @njit
@@ -515,8 +557,11 @@ def _shoulder_gap(t1, p, a, elbow, K, th):
 
 @njit
 def _gap(t, p, a, front, elbow, K, th):
-    """The bend gap of :func:`_bend_gap` at theta5 = ``t`` on the branch (front, elbow), or with
-    ``front`` 0 that of :func:`_shoulder_gap` at theta1 = ``t`` on the elbow branch."""
+    """The bend gap of :func:`_bend_gap` at theta5 = ``t`` on the branch (front, elbow), with
+    ``front`` 0 that of :func:`_shoulder_gap` at theta1 = ``t`` on the elbow branch, with
+    ``front`` +-2 the fold gap of :func:`_fold_gap` at ``sw = t`` on the branch (front / 2, elbow)."""
+    if abs(front) == 2.0:
+        return _fold_gap(t, p, a, 0.5 * front, elbow, K, th)
     if front != 0.0:
         return _bend_gap(t, p, a, front, elbow, K, th)
     return _shoulder_gap(t, p, a, elbow, K, th)
@@ -524,60 +569,47 @@ def _gap(t, p, a, front, elbow, K, th):
 
 @njit
 def _gap_root(t0, t1, g0, g1, p, a, front, elbow, K, th):
-    """The root of the bend gap bracketed by [t0, t1] (``g0``, ``g1`` of opposite signs):
-    Illinois, to the last bits."""
+    """The root of the bend gap bracketed by [t0, t1] (``g0``, ``g1`` of opposite signs): the
+    Illinois steps of :func:`ik7r._kernels.poly.illinois_step`, to the last bits."""
     side = 0
-    for _ in range(100):
-        t = (t0 * g1 - t1 * g0) / (g1 - g0)
-        if not (min(t0, t1) < t < max(t0, t1)):
-            t = 0.5 * (t0 + t1)
+    for _ in range(200):
+        t = secant_point(t0, t1, g0, g1)
         g, ok = _gap(t, p, a, front, elbow, K, th)
         if not ok or g == 0.0:
             return t
-        if (g > 0.0) == (g1 > 0.0):
-            t1, g1 = t, g
-            if side == -1:
-                g0 *= 0.5
-            side = -1
-        else:
-            t0, g0 = t, g
-            if side == 1:
-                g1 *= 0.5
-            side = 1
-        if abs(t1 - t0) <= 4e-16 * max(abs(t0), abs(t1)) + 1e-300:
+        t0, t1, g0, g1, side, done = illinois_step(t0, t1, g0, g1, side, t, g)
+        if done:
             break
     return t0 if abs(g0) < abs(g1) else t1
 
 
 @njit
 def _gap_min(t0, t1, p, a, front, elbow, K, th):
-    """The least |bend gap| in [t0, t1] (golden section); (t, |gap|)."""
-    g = 0.5 * (math.sqrt(5.0) - 1.0)
-    for _ in range(50):
-        x1 = t1 - g * (t1 - t0)
-        x2 = t0 + g * (t1 - t0)
-        f1, ok1 = _gap(x1, p, a, front, elbow, K, th)
-        f2, ok2 = _gap(x2, p, a, front, elbow, K, th)
-        if ok1 and (not ok2 or abs(f1) < abs(f2)):
-            t1 = x2
-        else:
-            t0 = x1
-    t = 0.5 * (t0 + t1)
+    """The least |bend gap| in [t0, t1] (Brent's minimiser); (t, |gap|)."""
+    st, t = brent_start(t0, t1)
+    for _ in range(200):
+        f, ok = _gap(t, p, a, front, elbow, K, th)
+        st = brent_take(st, t, abs(f) if ok else np.inf)
+        st, t, done = brent_next(st)
+        if done:
+            break
+    t = st[2]
     f, ok = _gap(t, p, a, front, elbow, K, th)
     return t, abs(f) if ok else np.inf
 
 
 @njit
-def _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+def _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats, front1=1.0):
     """Every solution with theta5 in [ta, tb] (an interval the residual polynomial left
     undecided: its values there are within their rounding of zero), from the bend gap of each
     of the four arm branches (:func:`_bend_gap`) on a grid: sign changes refined to the last
-    bits, dips of |gap| (tangential roots, or two roots in one cell) refined by golden section
+    bits, dips of |gap| (tangential roots, or two roots in one cell) refined by Brent's minimiser
     and split at the dip. Where a branch ends inside a cell (the elbow stretches) the end is
     found by bisection and the piece between it and the grid is scanned on a grid of its own.
-    Each candidate is completed with the wrist and verified on the forward kinematics."""
+    Each candidate is completed with the wrist and verified on the forward kinematics.
+    ``front1`` 2: the same scan of the fold gap (:func:`_scan_fold`)."""
     sub = ws[_SUB:_SUB + 2 * SCAN_PIECES]
-    for front in (1.0, -1.0):
+    for front in (front1, -front1):
         for elbow in (1.0, -1.0):
             sub[0] = ta
             sub[1] = tb
@@ -600,8 +632,22 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
     is two cells of the one that found it, so they nest). Returns (count, npieces)."""
     m = SCAN_GRID
     gs = ws[_SCAN:_SCAN + m + 1]
-    th = ws[_TH:_TH + 7]
+    th = ws[_TH:_TH + _NTH]
     near = SCAN_NEAR if K[L.DEVIATION] == 0.0 else SCAN_NEAR_DEVIATING
+    if tb - ta <= SCAN_TINY * (1.0 + abs(ta)):
+        # a piece this narrow (an undecided bracket of the polynomial at its width limit) holds
+        # roots within SCAN_TINY of each other, which its grid would not tell apart from rounding
+        # (every grid point could look like a dip): its sign change, else its least |gap|
+        g0, ok0 = _gap(ta, p, a, front, elbow, K, th)
+        g1, ok1 = _gap(tb, p, a, front, elbow, K, th)
+        if ok0 and ok1 and g0 * g1 < 0.0:
+            t = _gap_root(ta, tb, g0, g1, p, a, front, elbow, K, th)
+        else:
+            t, fm = _gap_min(ta, tb, p, a, front, elbow, K, th)
+            if not fm < near:
+                return count, npieces
+        return _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt,
+                              ws, mats), npieces
     for i in range(m + 1):
         g, ok = _gap(ta + (tb - ta) * i / m, p, a, front, elbow, K, th)
         gs[i] = g if ok else np.nan
@@ -626,12 +672,17 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
             npieces += 1
         if not math.isfinite(gi):
             continue
+        if abs(front) == 2.0 and i == 0 and gi != 0.0 and abs(gi) < near:
+            # the fold scan's start is the fully bent wrist itself, where the fold gap of a pose
+            # made there vanishes: a candidate whatever the cell beside it holds
+            count = _gap_candidate(ti, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count,
+                                   filt, ws, mats)
         t = ti
         have = gi == 0.0  # (theta1 may be negative: a flag, not a sentinel value)
         if not have and i < m and math.isfinite(gs[i + 1]) and gi * gs[i + 1] < 0.0:
             t = _gap_root(ti, ta + (tb - ta) * (i + 1) / m, gi, gs[i + 1], p, a, front, elbow, K, th)
             have = True
-        elif (not have and (i == 0 or not math.isfinite(gs[i - 1]) or abs(gi) <= abs(gs[i - 1]))
+        elif (not have and (i == 0 or not math.isfinite(gs[i - 1]) or abs(gi) < abs(gs[i - 1]))
               and (i == m or not math.isfinite(gs[i + 1]) or abs(gi) <= abs(gs[i + 1]))):
             # a dip of |gap|: a tangential root, or two roots within one grid cell
             lo_i = max(0, i - 1)
@@ -695,9 +746,199 @@ def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
 
 
 @njit
+def _fold_gap(sw, p, a, front, elbow, K, th):
+    """The fold gap at ``u = cos(2 beta) + sw^2`` (``sw^2 = 2 sin^2(beta) sin^2(eps / 2)``, eps =
+    pi - theta5: ``sw >= 0`` grows with the distance from the fully bent wrist) on the arm
+    branch (``front``, ``elbow``: +-1); zero exactly at solutions. Finite at the fold, where the
+    virtual centre ``P = O - (KW / u) a`` (``O = p - d7 a``, the centre of joint 6) is at
+    infinity for a 45 deg twist and the bend gap cannot be evaluated.
+
+    The arm that places P at distance ``L = d4 + KW / u`` along axis 4 is computed in coordinates
+    scaled by u (``u P`` and ``u L`` stay finite), with the elbow's angles from half-angle forms
+    whose small terms are computed as such (``|X|^2 - |v|^2`` expanded, its leading terms cancelled
+    by hand): it stays accurate to rounding as u goes to 0, where the two elbow branches keep
+    distinct theta2 and theta3. For that arm, the wrist's condition (axis 4 at the bend ``phi(u)``
+    from the approach ``a``) is equivalent to ``|O - O4| = 2 |KW|`` (the mirror wrist puts O4 and O
+    symmetric about the bisector of axes 4 and 7), a distance of points that both stay finite:
+    the gap is ``|O - O4| / (2 |KW|) - 1``. Writes DH cosines and sines of theta1..3 into
+    ``th[:6]`` (as :func:`_arm_from_psi`), theta5 (DH, in [0, pi]) into ``th[6]`` and O4 (frame 0)
+    into ``th[7:10]``. Returns (gap, ok); ok is False where the branch does not reach."""
+    u = _u_fold(K) + sw * abs(sw)  # (sw < 0: u below the fold, scanned for deviating models)
+    kw = K[L.KW]
+    a1 = K[L.A1]
+    a2 = K[L.A2]
+    a3 = K[L.A3]
+    b = K[L.B]
+    d1 = K[L.D1]
+    d4 = K[L.D4]
+    e1 = K[L.EPS1]
+    e3 = K[L.EPS3]
+    scale = K[L.SCALE]
+    d7 = K[L.D7]
+    ox = p[0] - d7 * a[0]
+    oy = p[1] - d7 * a[1]
+    oz = p[2] - d7 * a[2]
+    hx = u * ox - kw * a[0]  # u P
+    hy = u * oy - kw * a[1]
+    hz = u * oz - kw * a[2]
+    lh = u * d4 + kw  # u L
+    r2 = hx * hx + hy * hy
+    if r2 <= (1e-13 * scale * u) ** 2 + (1e-13 * kw) ** 2:
+        return 0.0, False  # the virtual centre (nearly) on axis 1: the shoulder scan's case
+    disc = r2 - (u * b) ** 2
+    if disc < -(1e-12 * scale * u) ** 2:
+        return 0.0, False
+    rho = front * math.sqrt(max(disc, 0.0))  # u rho
+    bp = -e1 * b
+    t1 = math.atan2(rho * hy - u * bp * hx, rho * hx + u * bp * hy)
+    xx = rho - u * a1  # u X: the centre in the arm plane, from the shoulder
+    xy = e1 * (hz - u * d1)
+    nx = math.hypot(xx, xy)
+    nv = math.hypot(u * a3, lh)  # u |v|, v = (a3, -eps3 L)
+    if nx == 0.0 or nv == 0.0:
+        return 0.0, False
+    # |X|^2 - |v|^2 = D / u with the terms of order 1 / u^2 cancelled exactly
+    dd = (u * (ox * ox + oy * oy + oz * oz - b * b + a1 * a1 + d1 * d1 - a3 * a3 - d4 * d4)
+          - 2.0 * kw * (ox * a[0] + oy * a[1] + oz * a[2] + d4) - 2.0 * (a1 * rho + d1 * hz))
+    su = 1.0 if u >= 0.0 else -1.0  # (u < 0: the scaled vectors point the other way)
+    dt = su * dd / (nx + nv)  # |X| - |v|
+    s2 = a2 * a2 - dt * dt
+    if s2 < -1e-12 * a2 * a2:
+        return 0.0, False  # the elbow does not reach
+    root = math.sqrt(max(s2, 0.0) / (nx * nv))
+    half = math.asin(min(1.0, 0.5 * abs(u) * root))  # half the angle between X and R(psi) v
+    psi = math.atan2(xy, xx) - math.atan2(-e3 * lh, u * a3) + 2.0 * elbow * half
+    # theta2: the angle at the shoulder between X and the upper arm (its sine from the law of
+    # sines, both finite as u goes to 0)
+    gamma = math.atan2(nv * root * math.cos(half) / a2, (su * dd + abs(u) * a2 * a2) / (2.0 * a2 * nx))
+    t2 = math.atan2(su * xy, su * xx) - elbow * gamma  # (a2 > 0: ik7r.robot.family.frame_dh)
+    c1, s1 = math.cos(t1), math.sin(t1)
+    c2, s2_ = math.cos(t2), math.sin(t2)
+    cp, sp = math.cos(psi), math.sin(psi)
+    th[0], th[1], th[2] = c1, c2, cp * c2 + sp * s2_
+    th[3], th[4], th[5] = s1, s2_, sp * c2 - cp * s2_
+    th[6] = math.pi - _fold_eps(sw, K)
+    # O4 = E + R(psi) (a3, -eps3 d4) in the arm plane, then in frame 0
+    x4 = a2 * c2 + a3 * cp + e3 * d4 * sp
+    y4 = a2 * s2_ + a3 * sp - e3 * d4 * cp
+    r4 = x4 + a1
+    th[7] = r4 * c1 - bp * s1
+    th[8] = r4 * s1 + bp * c1
+    th[9] = e1 * y4 + d1
+    dx = ox - th[7]
+    dy = oy - th[8]
+    dz = oz - th[9]
+    return math.sqrt(dx * dx + dy * dy + dz * dz) / (2.0 * abs(kw)) - 1.0, True
+
+
+@njit
+def _fold_eps(sw, K):
+    """``eps = pi - theta5`` (>= 0) of the wrist at ``u = cos(2 beta) + sw^2``: ``sw =
+    sqrt(2) |sin(beta)| sin(eps / 2)`` (u is quadratic in eps, sw linear); 0 for ``sw < 0``
+    (theta5 clamped to pi)."""
+    return 2.0 * math.asin(min(1.0, max(sw, 0.0) / (math.sqrt(2.0) * abs(K[L.SB]))))
+
+
+@njit
+def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Complete the root ``sw`` of the fold gap on the branch (front, elbow) with the wrist and
+    accept what is exact: theta5 = +-(pi - eps) (and pi itself when eps < FOLD_WINDOW); theta4
+    from the position of O (the centre of joint 6) about axis 4, which stays defined where the
+    orientation leaves only theta7 - theta4 (axis 7 folded back parallel to axis 4), then theta7
+    from the orientation."""
+    th = ws[_TH:_TH + _NTH]
+    _, ok = _fold_gap(sw, p, a, front, elbow, K, th)
+    if not ok:
+        return count
+    margin = _filter_margin(K)
+    if filt >= 0:
+        if not (_may_match(0, th[0], th[3], filt >> 2, margin, K)
+                and _may_match(2, th[2], th[5], (filt >> 1) & 1, margin, K)):
+            return count
+    M = mats[_M]
+    for i in range(4):
+        for j in range(4):
+            M[i, j] = 1.0 if i == j else 0.0
+    for i in range(3):
+        dh_step_cs(M, K, L.NDH, L.TRIG + 14, i, th[i], th[3 + i])
+    Q = mats[_Q, :3, :3]
+    wrist_target(M[:3, :3], R07, K, Q)
+    # O - O4 in frame 3 turned by alpha3 (frame 4 at theta4 = 0): its azimuth about axis 4
+    d7 = K[L.D7]
+    vx = p[0] - d7 * a[0] - th[7]
+    vy = p[1] - d7 * a[1] - th[8]
+    vz = p[2] - d7 * a[2] - th[9]
+    x3 = M[0, 0] * vx + M[1, 0] * vy + M[2, 0] * vz
+    y3 = M[0, 1] * vx + M[1, 1] * vy + M[2, 1] * vz
+    z3 = M[0, 2] * vx + M[1, 2] * vy + M[2, 2] * vz
+    az = math.atan2(K[L.NOMINAL_TRIG + 6] * y3 + K[L.NOMINAL_TRIG + 7] * z3, x3)
+    q = ws[_Q6:_Q6 + 6]
+    qq = ws[_QQ:_QQ + 6]
+    for i in range(3):
+        q[i] = user_angle(i, _angle(th, i), K)
+    eps = _fold_eps(sw, K)
+    if eps < FOLD_WINDOW:
+        count, exact = _accept(_with_fold_wrist(q, Q, math.pi, -1.0, 0.0, az, K, mats, qq), Td, K,
+                               out, count, mats, True)
+        if exact:
+            return count
+    for sgn in (1.0, -1.0):
+        t5 = sgn * (math.pi - eps)
+        count, _ = _accept(_with_fold_wrist(q, Q, t5, -math.cos(eps), sgn * math.sin(eps), az, K,
+                                            mats, qq), Td, K, out, count, mats)
+        if K[L.DEVIATION] > 0.0 and eps < NEAR_SINGULAR:  # (start off the singular fold too)
+            alt = sgn * (math.pi - NEAR_SINGULAR)
+            count, _ = _accept(_with_fold_wrist(q, Q, alt, math.cos(alt), math.sin(alt), az, K,
+                                                mats, qq), Td, K, out, count, mats, False, False)
+    return count
+
+
+@njit
+def _with_fold_wrist(q, Q, t5, c5, s5, az, K, mats, qq):
+    """``qq``: a copy of ``q`` (arm joints set) completed with the wrist for DH angle ``t5``
+    (cosine ``c5``, sine ``s5``), theta4 from the azimuth ``az`` of O - O4 about axis 4 (O - O4 =
+    dw (z5 + z6) lies at azimuth theta4 + mu(theta5) in frame 4 at theta4 = 0)."""
+    sb = K[L.SB]
+    dwsb = K[L.DW] * sb
+    mu = math.atan2(dwsb * math.sqrt(1.0 - sb * sb) * (1.0 - c5), dwsb * s5)
+    t4 = az - mu
+    c4, s4 = math.cos(t4), math.sin(t4)
+    W = mats[_WR, :3, :3]
+    wrist_rotation_cs(c5, s5, K, W)
+    t7 = wrist_t7(Q, c4, s4, W)
+    for i in range(6):
+        qq[i] = q[i]
+    qq[3] = user_angle(3, t4, K)
+    qq[4] = user_angle(4, t5, K)
+    qq[5] = user_angle(6, t7, K)
+    return qq
+
+
+@njit
+def _scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Every solution within FOLD_SPAN (in u) of the fully bent wrist, for robots whose fold is
+    (nearly) at infinity (``cos(2 beta)`` below FOLD_NEAR): the fold gap (:func:`_fold_gap`) of each
+    of the four arm branches scanned as the bend gap is (:func:`_scan_piece`), in ``sw =
+    sqrt(u - cos(2 beta))`` (proportional to sin((pi - theta5) / 2): solutions close to the fold
+    stay apart on the grid) from the fold (0) to just past where the polynomial search begins."""
+    if K[L.DEVIATION] > 0.0:
+        # the exact model's solutions at the fold may come from nominal roots beyond it (u below
+        # cos(2 beta), down to 2 % of the range as the polynomial's range is padded; theta5
+        # clamped to pi): near a fold at infinity a twist 1e-4 rad off moves the virtual centre
+        # by d 1e-4, and it may come back from the other side (u < 0)
+        count = _scan_theta5(-math.sqrt(0.02 * (1.0 - _u_fold(K))), 0.0, p, a, R07, Td, K, hint,
+                             has_hint, out, count, filt, ws, mats, 2.0)
+    return _scan_theta5(0.0, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint, has_hint,
+                        out, count, filt, ws, mats, 2.0)
+
+
+@njit
 def _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     """Complete the arm branch's root ``t`` of the bend gap with the wrist; accept what is exact."""
-    th = ws[_TH:_TH + 7]
+    if abs(front) == 2.0:
+        return _fold_candidate(t, p, a, 0.5 * front, elbow, R07, Td, K, hint, has_hint, out, count,
+                               filt, ws, mats)
+    th = ws[_TH:_TH + _NTH]
     _, ok = _gap(t, p, a, front, elbow, K, th)  # the arm of the root, into th; theta5 th[6]
     if ok:
         t5 = th[6]
@@ -762,7 +1003,7 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
         fa = abs(fs[i])
         if (fa <= abs(fs[i - 1]) and fa <= abs(fs[i + 1]) and fs[i - 1] * fs[i] > 0.0
                 and fs[i] * fs[i + 1] > 0.0 and fa < NEAR_RATIO * ms[i] and count < roots.shape[0]):
-            u = _golden(kind, lo + (hi - lo) * (i - 1) / m, lo + (hi - lo) * (i + 1) / m, p, a, K)
+            u = _least_abs(kind, lo + (hi - lo) * (i - 1) / m, lo + (hi - lo) * (i + 1) / m, p, a, K)
             h = 0.5 * (hi - lo) / m
             for v in (u, u - h, u + h):  # the minimum and starts on either side of it
                 if abs(v) > 1e-12 and count < roots.shape[0]:
@@ -803,13 +1044,16 @@ def _u_fold(K):
 @njit
 def _interval(K):
     """The search interval of ``u = KW / d = cos(phi / 2)``: the whole theta5 range (u = 1 at
-    the straight wrist, cos(2 beta) fully bent), padded by rounding."""
+    the straight wrist, cos(2 beta) fully bent), padded by rounding; for a fold (nearly) at
+    infinity (cos(2 beta) < FOLD_NEAR) it starts FOLD_SPAN above the fold."""
     lo = _u_fold(K)
     pad = 1e-9 * (1.0 - lo)
     if K[L.DEVIATION] > 0.0:
         # the exact model's solutions near the ends of the range may come from nominal roots
         # just outside it (kept there, then polished on the exact model)
         pad = 0.02 * (1.0 - lo)
+    if lo < FOLD_NEAR:
+        return lo + FOLD_SPAN, 1.0 + pad  # the fold's neighbourhood is :func:`_scan_fold`'s
     return lo - pad, 1.0 + pad
 
 
@@ -893,9 +1137,13 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
         if near0:
             count = _scan_theta5(0.0, DEVIATING_ENDS, p, a, R07, Td, K, hint, has_hint, out, count,
                                  filt, ws, mats)
-        if nearpi:
+        if nearpi and _u_fold(K) >= FOLD_NEAR:
             count = _scan_theta5(math.pi - DEVIATING_ENDS, math.pi, p, a, R07, Td, K, hint, has_hint,
                                  out, count, filt, ws, mats)
+    if _u_fold(K) < FOLD_NEAR:
+        # the fully bent wrist of a (nearly) 45 deg twist: the polynomial starts FOLD_SPAN above it
+        count = _scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+        folded = True
     count = _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
     if folded:
         count = _merge_folded(out, count)

@@ -9,12 +9,16 @@ import numpy as np
 
 from ..robot.family import MAX_JOINT_ANGLE
 from . import params as L
-from .complete import WORK_SIZE, solve_into, wrap
+from .complete import DUP_TOL, WORK_SIZE, solve_into, wrap
 from .jit import njit
 from .validate import validate_pose
 
 HALF_PI = 0.5 * math.pi
 SINGULAR_WRIST = 1e-9  # |q5| (or |q5| - pi) below this: both Wrist indicators name the pose
+#: pi - |q5| below this: both Wrist indicators name the pose. Beside the fully bent wrist its two
+#: solutions +-(pi - eps), 2 eps apart, are one solution below DUP_TOL (ik7r._kernels.complete),
+#: which then stands for both.
+FOLDED_WRIST = 0.5 * DUP_TOL
 #: q1 or q3 within this (rad) of an indicator boundary (+-pi/2): both indicators name the
 #: solution. It is the rounding of the solve where a boundary is singular (the stretched elbow of
 #: a robot without elbow offset: the FK is flat there, a joint error e moves the tool by about
@@ -35,11 +39,11 @@ def _side(x, want):
 def matches(q, arm, elbow, wrist):
     """True when ``q`` has the indicators (arm, elbow, wrist). A solution on a boundary between
     configurations belongs to both: q1 or q3 within BOUNDARY_TOL of +-pi/2, a straight
-    (q5 = 0) or fully bent (q5 = pi) wrist (its two wrist solutions are one)."""
+    (q5 = 0) or fully bent (q5 within FOLDED_WRIST of pi) wrist (its two wrist solutions are one)."""
     if not (_side(wrap(q[0]), arm) and _side(wrap(q[2]), elbow)):
         return False
     q5 = wrap(q[4])
-    if abs(q5) < SINGULAR_WRIST or math.pi - abs(q5) < SINGULAR_WRIST:
+    if abs(q5) < SINGULAR_WRIST or math.pi - abs(q5) < FOLDED_WRIST:
         return True
     w = 1 if 0.0 <= q5 < math.pi else 0
     return w == wrist

@@ -153,10 +153,17 @@ def wrist_ik_cs(Q, c5, s5, t4_hint, K, W):
         t4 = t4_hint
         c4 = math.cos(t4)
         s4 = math.sin(t4)
+    return t4, wrist_t7(Q, c4, s4, W)
+
+
+@njit
+def wrist_t7(Q, c4, s4, W):
+    """theta7 (rad) with ``RotZ(theta4) W RotZ(theta7) = Q`` given ``cos(theta4)``, ``sin(theta4)``
+    and the wrist rotation ``W`` (3, 3) of theta5 (:func:`wrist_rotation_cs`)."""
     # RotZ(t7) = W^T RotZ(-t4) Q: first column's x and y
     m0 = c4 * Q[0, 0] + s4 * Q[1, 0]
     m1 = -s4 * Q[0, 0] + c4 * Q[1, 0]
     m2 = Q[2, 0]
     x = W[0, 0] * m0 + W[1, 0] * m1 + W[2, 0] * m2
     y = W[0, 1] * m0 + W[1, 1] * m1 + W[2, 1] * m2
-    return t4, math.atan2(y, x)
+    return math.atan2(y, x)

@@ -1,0 +1,135 @@
+"""Issue 12 item 1: every solution at the fully bent wrist (q5 = 180 deg) and beside it.
+
+For a wrist twist of 45 deg (the family's edge) the fully bent wrist folds axis 7 back parallel
+to axis 4: the virtual wrist centre is at infinity there. Each pose is made by forward
+kinematics from a known joint vector (the source) with q5 = +-180 deg exactly or within
+1e-9 .. 1e-3 rad of it, on generated robots with beta = 45 deg (with and without offsets),
+nearly 45 deg and the paper's 35 deg; the source must be among ``ik_all``'s answers, and every
+answer is checked on an eq. (1) product written here from the DH table (no ik7r code).
+"""
+
+import math
+
+import numpy as np
+import pytest
+from helpers import dh_link, wrap
+
+import ik7r
+from ik7r.robot import Robot
+
+#: Two solutions closer than this in every joint are one (docs/method.md, "Duplicates"): beside
+#: the fold the two wrist solutions +-(180 deg - eps) are 2 eps apart, so below eps = 5e-6 they
+#: come back as one.
+ONE_SOLUTION = 1e-5
+
+
+def generated(beta_deg, a1=0.0, a3=0.0, b=0.0, d4=1200.0, d7=110.0, dw=90.0, sign=None, offset=None):
+    """A family member (mm) of wrist twist ``beta_deg`` (joint signs and theta offsets optional)."""
+    be = math.radians(beta_deg)
+    dh = np.array([[0, 0, 400, 0], [a1, math.pi / 2, b, 0], [1100, 0, 0, 0], [a3, math.pi / 2, d4, 0],
+                   [0, -be, dw, 0], [0, 2 * be, dw, 0], [0, -be, d7, 0]], float)
+    if offset is not None:
+        dh[:, 3] = offset
+    signs = np.ones(7) if sign is None else np.array(sign, float)
+    return Robot(name=f"b{beta_deg:g}", dh=dh, joint_sign=signs)
+
+
+def eq1_fk(robot, q):
+    """Eq. (1) product of the seven DH rows (q6 = -q5; DH angle sign * q + offset), independent
+    of ik7r's kernels."""
+    joints = [q[0], q[1], q[2], q[3], q[4], -q[4], q[5]]
+    T = np.eye(4)
+    for row, s, t in zip(robot.dh, robot.joint_sign, joints):
+        a, alpha, d, offset = row
+        T = T @ dh_link(a, math.degrees(alpha), s * t + offset, d)
+    return T
+
+
+def found(robot, sols, q, T):
+    """Whether the source ``q`` is among the answers: within 1e-7 rad, within ONE_SOLUTION beside
+    the fold (not at it: there the solution is one), or joined to an answer by a segment whose
+    9 points all meet the tolerances (where the FK is flat at the fold, any point of that valley
+    is the solution)."""
+    if len(sols) == 0:
+        return False
+    dist = np.abs(wrap(sols - q)).max(axis=1)
+    k = int(np.argmin(dist))
+    if dist[k] <= 1e-7 or dist[k] <= ONE_SOLUTION and 0.0 < np.pi - abs(wrap(q[4])) < 1e-4:
+        return True
+    if dist[k] >= 1e-2:
+        return False
+    step = wrap(sols[k] - q)
+    for f in np.linspace(0.0, 1.0, 9):
+        G = eq1_fk(robot, q + f * step)
+        if np.linalg.norm(G[:3, 3] - T[:3, 3]) > robot.position_tolerance + 1e-12:
+            return False
+    return True
+
+
+def assert_exact(robot, sols, T):
+    for s in sols:
+        G = eq1_fk(robot, s)
+        assert np.linalg.norm(G[:3, 3] - T[:3, 3]) <= robot.position_tolerance + 1e-12
+        assert np.abs(G[:3, :3] - T[:3, :3]).max() <= 1e-11
+
+
+def fold_sources(rng, n):
+    """Joint vectors with q5 = +-pi exactly (the first half) and +-(pi - 10^U(-9, -3))."""
+    Q = rng.uniform(-np.pi, np.pi, (n, 6))
+    sign = rng.choice([-1.0, 1.0], n)
+    Q[:, 4] = sign * np.pi
+    Q[n // 2:, 4] = sign[n // 2:] * (np.pi - 10.0 ** rng.uniform(-9, -3, n - n // 2))
+    return Q
+
+
+ROBOTS = {
+    "b45": generated(45),
+    "b45_offsets": generated(45, a1=250, a3=150),
+    "b45_lateral": generated(45, a1=120, a3=-80, b=60, d4=900, d7=140),
+    "b44.8": generated(44.8, a1=200, a3=100),
+    "b-45_mirrored": generated(-45, a1=200, a3=120, dw=-90, sign=[1, -1, 1, -1, 1, 1, -1],
+                               offset=[0.1, 0.3, -0.2, 0.5, 0.0, 0.0, 0.7]),
+    "paper": None,
+}
+
+
+@pytest.mark.parametrize("name", list(ROBOTS))
+def test_fully_bent_wrist_every_source_found(name):
+    robot = ROBOTS[name] or ik7r.load_robot()
+    rng = np.random.default_rng(1212 + list(ROBOTS).index(name))
+    misses = []
+    for q in fold_sources(rng, 40):
+        T = eq1_fk(robot, q)
+        sols = robot.ik_all(T)
+        assert_exact(robot, sols, T)
+        if not found(robot, sols, q, T):
+            misses.append(q.tolist())
+    assert misses == []
+
+
+@pytest.mark.parametrize("name", ["b45", "b45_offsets"])
+def test_fully_bent_wrist_ik_for_its_configuration(name):
+    """ik for the source's own configuration returns an exact solution with the source's Arm and
+    Elbow indicators: a fully bent wrist belongs to both Wrist indicators, and so does the one
+    solution that stands for the two +-(180 deg - eps) closer than 1e-5 apart."""
+    robot = ROBOTS[name]
+    rng = np.random.default_rng(1230)
+    for q in fold_sources(rng, 24):
+        T = eq1_fk(robot, q)
+        s = robot.ik(T, int(robot.config_of(q)), seed=q)
+        assert_exact(robot, s[None], T)
+        assert np.array_equal(robot.indicators(s)[:2], robot.indicators(q)[:2])
+
+
+def test_folded_wrist_is_returned_once_at_180_deg():
+    """At q5 = 180 deg exactly on a 45 deg twist the answer carries q5 = 180 deg itself and no
+    near-duplicate (the two wrist solutions merge there)."""
+    robot = ROBOTS["b45_offsets"]
+    rng = np.random.default_rng(1231)
+    for q in fold_sources(rng, 20)[:10]:
+        T = eq1_fk(robot, q)
+        sols = robot.ik_all(T)
+        k = int(np.argmin(np.abs(wrap(sols - q)).max(axis=1)))
+        assert abs(wrap(sols[k, 4] - np.pi)) < 1e-6
+        gaps = np.abs(wrap(sols[:, None, :] - sols[None, :, :])).max(axis=-1) + np.eye(len(sols))
+        assert gaps.min() > ONE_SOLUTION
