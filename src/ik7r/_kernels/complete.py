@@ -17,10 +17,11 @@ import math
 
 import numpy as np
 
+from ..geometry import rotations
 from . import params as L
 from .arm import arm_ik
 from .fk import dh_step_cs, fk_user, polish, residual, user_angle
-from .jit import njit
+from .jit import njit, shared
 from .poly import (
     ISOLATE_WORK,
     MAX_DEGREE,
@@ -102,13 +103,9 @@ _BCOEF, _CAST, _ISO, _ROOTS = _W["BCOEF"], _W["CAST"], _W["ISO"], _W["ROOTS"]
 _NBK, _SCAN, _SUB = _W["NB"], _W["SCAN"], _W["SUB"]
 
 
-@njit
-def wrap(x):
-    """Angle wrapped to (-pi, pi]."""
-    y = (x + math.pi) - TWO_PI * math.floor((x + math.pi) / TWO_PI)  # in [0, 2 pi)
-    if y <= 0.0:
-        y += TWO_PI
-    return y - math.pi
+# the one angle wrap, to (-pi, pi], and the exact reduction under it (ik7r.geometry.rotations)
+remainder_2pi = shared(rotations.remainder_2pi)
+wrap = shared(rotations.wrap)
 
 
 @njit
