@@ -145,6 +145,9 @@ TWO_PI_LO = float.fromhex("0x1.10b46p-28")
 #: 2**26 TWO_PI (4.2e8 rad, exact): angles beyond it are first reduced by ``fmod`` modulo this
 #: multiple of TWO_PI (exact, and the same remainder modulo TWO_PI).
 TWO_PI_2_26 = float.fromhex("0x1.921fb54442d18p+28")
+#: 2**6 TWO_PI (402 rad, exact): :func:`wrap` first reduces larger angles by ``fmod`` modulo
+#: this multiple of TWO_PI, so that ``x + pi`` rounds by at most 2.8e-14 rad.
+TWO_PI_2_6 = float.fromhex("0x1.921fb54442d18p+8")
 
 
 def remainder_2pi(x: np.ndarray | float) -> np.ndarray | float:
@@ -180,14 +183,19 @@ def wrap(x: np.ndarray | float) -> np.ndarray | float:
     minus pi: what ``numpy.mod`` gives, and what the solver has always returned. The only
     roundings are those of ``x + pi`` and of the final ``- pi``, so a value already in
     (-pi, pi] may move by an ulp (the indicator rule therefore reads :func:`remainder_2pi`, which
-    does not round); every finite ``x`` gives a value in (-pi, pi], 1e300 included; NaN and
-    infinity give NaN.
+    does not round). Beyond 2**6 turns (402 rad) ``x`` is first reduced exactly by whole
+    multiples of 2**6 TWO_PI: ``x + pi`` would otherwise round by up to half of ``x``'s float
+    spacing, and beyond 1e16 rad lose pi altogether (``numpy.mod(x + pi, 2 pi) - pi`` is then
+    ``x``'s angle plus pi). So every finite ``x``, 1e300 included, gives a value in (-pi, pi]
+    within 3e-14 rad of ``x``'s remainder; NaN and infinity give NaN.
 
     Written once over numpy operations: numpy code calls it on arrays (through
     :func:`wrap_angle`) and the compiled kernels call this same function on scalars
     (:func:`ik7r._kernels.jit.shared` registers it with numba; in pure-Python mode they call it as
     it is), so both give the same bits.
     """
+    if np.any(np.abs(x) >= TWO_PI_2_6):
+        x = np.fmod(x, TWO_PI_2_6)  # exact, the same angle; a smaller x loses less to x + pi
     r = remainder_2pi(x + np.pi)
     return (r + TWO_PI * (r <= 0.0)) - np.pi
 
@@ -196,7 +204,7 @@ def wrap_angle(x: ArrayLike) -> np.ndarray:
     """Angles wrapped to (-pi, pi] (:func:`wrap` of ``x`` as float64).
 
     >>> float(wrap_angle(-np.pi)), float(wrap_angle(3 * np.pi)), float(wrap_angle(1e300))
-    (3.141592653589793, 3.141592653589793, 2.418165953062772)
+    (3.141592653589793, 3.141592653589793, -0.7234267005270318)
     """
     return wrap(np.asarray(x, dtype=float))  # type: ignore[return-value]
 
