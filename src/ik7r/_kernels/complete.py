@@ -104,6 +104,7 @@ _NBK, _SCAN, _SUB = _W["NB"], _W["SCAN"], _W["SUB"]
 
 
 # the one angle wrap, to (-pi, pi], and the exact reduction under it (ik7r.geometry.rotations)
+shared(rotations.remainder_2pi_below_2_26)
 remainder_2pi = shared(rotations.remainder_2pi)
 wrap = shared(rotations.wrap)
 

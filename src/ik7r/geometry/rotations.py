@@ -22,6 +22,7 @@ __all__ = [
     "transform",
     "invert",
     "remainder_2pi",
+    "remainder_2pi_below_2_26",
     "wrap",
     "wrap_angle",
     "nearest_rotation",
@@ -163,14 +164,22 @@ def remainder_2pi(x: np.ndarray | float) -> np.ndarray | float:
     (both products are exact; both differences are exact because their operands lie on the float
     grid of ``x`` or of the result, which is small). A quotient rounded to the wrong side of a
     half turn leaves a value just beyond +-pi, folded back by one TWO_PI (exact). Angles beyond
-    2**26 turns are first reduced by ``fmod`` modulo 2**26 TWO_PI (exact, the same remainder).
+    2**26 turns are first reduced by ``fmod`` modulo 2**26 TWO_PI (exact, the same remainder), in
+    a ``while`` that runs once at most: behind an ``if``, LLVM computes ``fmod`` on every call (it
+    is free of side effects, so it is evaluated before the test), ten times the cost of the rest.
 
     Written once over numpy operations: numpy code calls it on arrays and the compiled kernels
     call this same function on scalars (:func:`ik7r._kernels.jit.shared`), so both give the same
     bits.
     """
-    if np.any(np.abs(x) >= TWO_PI_2_26):
+    while np.any(np.abs(x) >= TWO_PI_2_26):  # once at most ("while": numba would call fmod always)
         x = np.fmod(x, TWO_PI_2_26)
+    return remainder_2pi_below_2_26(x)
+
+
+def remainder_2pi_below_2_26(x: np.ndarray | float) -> np.ndarray | float:
+    """:func:`remainder_2pi` of angles within 2**26 turns (``abs(x) < TWO_PI_2_26``), without the
+    test for larger ones (what :func:`wrap` calls, having reduced them already)."""
     k = np.rint(x / TWO_PI)
     r = (x - k * TWO_PI_HI) - k * TWO_PI_LO
     return (r + TWO_PI * (r < -np.pi)) - TWO_PI * (r > np.pi)
@@ -194,9 +203,9 @@ def wrap(x: np.ndarray | float) -> np.ndarray | float:
     (:func:`ik7r._kernels.jit.shared` registers it with numba; in pure-Python mode they call it as
     it is), so both give the same bits.
     """
-    if np.any(np.abs(x) >= TWO_PI_2_6):
+    while np.any(np.abs(x) >= TWO_PI_2_6):  # once at most, as in remainder_2pi
         x = np.fmod(x, TWO_PI_2_6)  # exact, the same angle; a smaller x loses less to x + pi
-    r = remainder_2pi(x + np.pi)
+    r = remainder_2pi_below_2_26(x + np.pi)
     return (r + TWO_PI * (r <= 0.0)) - np.pi
 
 
