@@ -8,7 +8,8 @@ STAMP  := $(VENV)/.installed
 # installation and again when a kernel source changes (about 2 minutes on 2 cores). When the
 # build fails (no C compiler), numba's JIT compiles the kernels on first use instead.
 COMPILED := $(VENV)/.compiled
-KERNELS  := $(wildcard src/ik7r/_kernels/*.py) src/ik7r/robot/family.py
+KERNELS  := $(wildcard src/ik7r/_kernels/*.py) src/ik7r/robot/family.py \
+            src/ik7r/geometry/rotations.py src/ik7r/geometry/configs.py
 
 .PHONY: demo test bench lint docs typecheck clean
 

@@ -8,6 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
+# the library's one wrap, for wrapped joint distances (tests/geometry/test_wrap_and_indicators.py
+# holds it against an exact reference)
+from ik7r.geometry import wrap_angle as wrap
+
 #: Table 1 of the paper: (a_{i-1} mm, alpha_{i-1} deg, d_i mm) for joints 1..7.
 TABLE1 = [(0, 0, 0), (0, 90, 0), (1000, 0, 0), (0, 90, 900), (0, -35, 80), (0, 70, 80), (0, -35, 100)]
 
@@ -54,11 +58,6 @@ def dh_product(q6, first: int = 0, last: int = 7) -> np.ndarray:
         a, al, d = TABLE1[i]
         T = T @ dh_link(a, al, theta[i], d)
     return T
-
-
-def wrap(x):
-    """Angles to (-pi, pi]."""
-    return np.pi - np.mod(np.pi - np.asarray(x), 2 * np.pi)
 
 
 def angle_distance(a, b):

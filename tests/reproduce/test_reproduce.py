@@ -8,6 +8,7 @@ failure, Table 5's published values) and against forward kinematics computed ind
 from __future__ import annotations
 
 import csv
+import math
 
 import numpy as np
 import pytest
@@ -43,7 +44,7 @@ def _rows(path):
 def _indicators_deg(q_deg):
     """(Arm, Elbow, Wrist) from the paper's ranges (section 3), written independently of ik7r."""
     q = np.radians(q_deg)
-    q1, q3, q5 = wrap(q[0]), wrap(q[2]), wrap(q[4])
+    q1, q3, q5 = (math.remainder(q[i], 2 * math.pi) for i in (0, 2, 4))  # exact, in [-pi, pi]
     return (int(-np.pi / 2 <= q1 < np.pi / 2), int(-np.pi / 2 <= q3 < np.pi / 2), int(0 <= q5 < np.pi))
 
 

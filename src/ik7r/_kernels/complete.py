@@ -17,10 +17,11 @@ import math
 
 import numpy as np
 
+from ..geometry import rotations
 from . import params as L
 from .arm import arm_ik
 from .fk import dh_step_cs, fk_user, polish, residual, user_angle
-from .jit import njit
+from .jit import njit, shared
 from .poly import (
     ISOLATE_WORK,
     MAX_DEGREE,
@@ -126,13 +127,10 @@ _NBK, _SCAN, _SUB = _W["NB"], _W["SCAN"], _W["SUB"]
 _NTH = 10  # the arm's cosines and sines, theta5, and O4 (see :func:`_fold_gap`)
 
 
-@njit
-def wrap(x):
-    """Angle wrapped to (-pi, pi]."""
-    y = (x + math.pi) - TWO_PI * math.floor((x + math.pi) / TWO_PI)  # in [0, 2 pi)
-    if y <= 0.0:
-        y += TWO_PI
-    return y - math.pi
+# the one angle wrap, to (-pi, pi], and the exact reduction under it (ik7r.geometry.rotations)
+shared(rotations.remainder_2pi_below_2_26)
+remainder_2pi = shared(rotations.remainder_2pi)
+wrap = shared(rotations.wrap)
 
 
 @njit

@@ -109,6 +109,25 @@ def _widened(dispatcher):
     return dispatcher
 
 
+_shared: set = set()
+
+
+def shared(func):
+    """Let the kernels call ``func``, a plain function over numpy operations written outside the
+    kernels for numpy arrays (the one wrap, the one indicator rule of :mod:`ik7r.geometry`), and
+    return it unchanged: with numba it is registered (``numba.extending.register_jitable``) and
+    compiled into every kernel that calls it, on scalars; without numba the kernels call it as it
+    is. One source, so numpy code and the kernels give the same bits. It must compile as numba
+    code for scalars (no allocation) and stay numba-free itself, so that the modules that define
+    it import without numba."""
+    if _njit is not None and func not in _shared:
+        from numba.extending import register_jitable
+
+        register_jitable(func)
+        _shared.add(func)
+    return func
+
+
 def njit(func=None, *, vector=False, allocates=False):
     """Compile ``func`` lazily with numba (cached, no fastmath), or return it unchanged.
 

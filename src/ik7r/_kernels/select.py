@@ -7,10 +7,11 @@ import math
 
 import numpy as np
 
+from ..geometry import configs
 from ..robot.family import MAX_JOINT_ANGLE
 from . import params as L
 from .complete import DUP_TOL, WORK_SIZE, solve_into, wrap
-from .jit import njit
+from .jit import njit, shared
 from .validate import validate_pose
 
 HALF_PI = 0.5 * math.pi
@@ -25,27 +26,29 @@ FOLDED_WRIST = 0.5 * DUP_TOL
 #: reach * e^2, 1e-9 of it for e = 1e-6 ... and two elbow solutions merge into one).
 BOUNDARY_TOL = 1e-6
 
+# the one indicator rule and the one numbering (ik7r.geometry.configs), compiled into the kernels
+arm_elbow_wrist = shared(configs.arm_elbow_wrist)
+number_of = shared(configs.number_of)
+
 
 @njit
-def _side(x, want):
-    """Whether the wrapped angle ``x`` may have the indicator ``want`` (1: in [-pi/2, pi/2)):
-    True for either indicator within BOUNDARY_TOL of +-pi/2."""
-    if abs(abs(x) - HALF_PI) <= BOUNDARY_TOL:
-        return True
-    return (1 if -HALF_PI <= x < HALF_PI else 0) == want
+def _on_boundary(x):
+    """Whether joint angle ``x`` (q1 or q3) is within BOUNDARY_TOL of an indicator boundary +-pi/2."""
+    return abs(abs(wrap(x)) - HALF_PI) <= BOUNDARY_TOL
 
 
 @njit
 def matches(q, arm, elbow, wrist):
-    """True when ``q`` has the indicators (arm, elbow, wrist). A solution on a boundary between
+    """True when ``q`` has the indicators (arm, elbow, wrist) by the one rule
+    (:func:`ik7r.geometry.configs.arm_elbow_wrist`), except that a solution on a boundary between
     configurations belongs to both: q1 or q3 within BOUNDARY_TOL of +-pi/2, a straight
     (q5 = 0) or fully bent (q5 within FOLDED_WRIST of pi) wrist (its two wrist solutions are one)."""
-    if not (_side(wrap(q[0]), arm) and _side(wrap(q[2]), elbow)):
+    a, e, w = arm_elbow_wrist(q[0], q[2], q[4])
+    if not ((a == arm or _on_boundary(q[0])) and (e == elbow or _on_boundary(q[2]))):
         return False
     q5 = wrap(q[4])
     if abs(q5) < SINGULAR_WRIST or math.pi - abs(q5) < FOLDED_WRIST:
         return True
-    w = 1 if 0.0 <= q5 < math.pi else 0
     return w == wrist
 
 
@@ -137,7 +140,7 @@ def reduced_seed(seed, out):
     limits, so no turn is lost)."""
     for j in range(6):
         x = seed[j]
-        out[j] = x if abs(x) <= MAX_JOINT_ANGLE else np_wrap(x)
+        out[j] = x if abs(x) <= MAX_JOINT_ANGLE else wrap(x)
 
 
 @njit(allocates=True)
@@ -176,30 +179,11 @@ def select(sols, n, arm, elbow, wrist, seed, within_limits, K, q_out):
 
 
 @njit
-def np_wrap(x):
-    """``numpy``'s :func:`ik7r.geometry.rotations.wrap_angle` of one angle, bit for bit (fmod based)."""
-    two_pi = 2.0 * math.pi
-    y = np.fmod(x + math.pi, two_pi)
-    if y != 0.0:
-        if y < 0.0:
-            y += two_pi
-    else:
-        y = 0.0
-    if y <= 0.0:
-        y += two_pi
-    return y - math.pi
-
-
-@njit
 def config_number(q):
-    """Configuration number 1..8 of ``q`` (6,), as :func:`ik7r.geometry.configs.config_number`."""
-    q1 = np_wrap(q[0])
-    q3 = np_wrap(q[2])
-    q5 = np_wrap(q[4])
-    arm = 1 if -HALF_PI <= q1 < HALF_PI else 0
-    elbow = 1 if -HALF_PI <= q3 < HALF_PI else 0
-    wrist = 1 if 0.0 <= q5 < math.pi else 0
-    return 1 + 4 * (1 - arm) + 2 * (1 - elbow) + (1 - wrist)
+    """Configuration number 1..8 of one solution ``q`` (6,): the one rule and numbering of
+    :mod:`ik7r.geometry.configs` (what :func:`ik7r.geometry.configs.config_number` gives for arrays)."""
+    arm, elbow, wrist = arm_elbow_wrist(q[0], q[2], q[4])
+    return number_of(arm, elbow, wrist)
 
 
 @njit

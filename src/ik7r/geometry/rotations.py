@@ -21,6 +21,9 @@ __all__ = [
     "matrix_to_quat",
     "transform",
     "invert",
+    "remainder_2pi",
+    "remainder_2pi_below_2_26",
+    "wrap",
     "wrap_angle",
     "nearest_rotation",
 ]
@@ -134,11 +137,85 @@ def invert(T: ArrayLike) -> np.ndarray:
     return transform(Rt, -np.einsum("...ij,...j->...i", Rt, T[..., :3, 3]))
 
 
+#: The float 2 pi of :func:`wrap` (its multiples drift from the exact ones by 2.4e-16 rad a turn).
+TWO_PI = 2.0 * np.pi
+#: TWO_PI split into its leading 27 bits and the rest (``TWO_PI_HI + TWO_PI_LO == TWO_PI``
+#: exactly): ``k * TWO_PI_HI`` and ``k * TWO_PI_LO`` are exact for every whole ``|k| <= 2**26``.
+TWO_PI_HI = float.fromhex("0x1.921fb54p+2")
+TWO_PI_LO = float.fromhex("0x1.10b46p-28")
+#: 2**26 TWO_PI (4.2e8 rad, exact): angles beyond it are first reduced by ``fmod`` modulo this
+#: multiple of TWO_PI (exact, and the same remainder modulo TWO_PI).
+TWO_PI_2_26 = float.fromhex("0x1.921fb54442d18p+28")
+#: 2**6 TWO_PI (402 rad, exact): :func:`wrap` first reduces larger angles by ``fmod`` modulo
+#: this multiple of TWO_PI, so that ``x + pi`` rounds by at most 2.8e-14 rad.
+TWO_PI_2_6 = float.fromhex("0x1.921fb54442d18p+8")
+
+
+def remainder_2pi(x: np.ndarray | float) -> np.ndarray | float:
+    """``x`` (rad, a float or a float64 array) minus the nearest whole multiple of the float
+    2 pi, **exactly** (no rounding at all): a value in [-pi, pi] (pi itself may come as -pi), as
+    ``math.remainder(x, TWO_PI)`` gives it (a zero may come without its sign); NaN and infinity
+    give NaN.
+
+    The one reduction of angles modulo 2 pi, for :func:`wrap` and the indicator rule
+    (:func:`ik7r.geometry.configs.arm_elbow_wrist`). It is computed without ``fmod`` (a library
+    call, ten times slower than the rest, in the solver's inner loops): with the quotient
+    ``k = rint(x / TWO_PI)``, ``(x - k TWO_PI_HI) - k TWO_PI_LO`` is exact while ``|k| <= 2**26``
+    (both products are exact; both differences are exact because their operands lie on the float
+    grid of ``x`` or of the result, which is small). A quotient rounded to the wrong side of a
+    half turn leaves a value just beyond +-pi, folded back by one TWO_PI (exact). Angles beyond
+    2**26 turns are first reduced by ``fmod`` modulo 2**26 TWO_PI (exact, the same remainder), in
+    a ``while`` that runs once at most: behind an ``if``, LLVM computes ``fmod`` on every call (it
+    is free of side effects, so it is evaluated before the test), ten times the cost of the rest.
+
+    Written once over numpy operations: numpy code calls it on arrays and the compiled kernels
+    call this same function on scalars (:func:`ik7r._kernels.jit.shared`), so both give the same
+    bits.
+    """
+    while np.any(np.abs(x) >= TWO_PI_2_26):  # once at most ("while": numba would call fmod always)
+        x = np.fmod(x, TWO_PI_2_26)
+    return remainder_2pi_below_2_26(x)
+
+
+def remainder_2pi_below_2_26(x: np.ndarray | float) -> np.ndarray | float:
+    """:func:`remainder_2pi` of angles within 2**26 turns (``abs(x) < TWO_PI_2_26``), without the
+    test for larger ones (what :func:`wrap` calls, having reduced them already)."""
+    k = np.rint(x / TWO_PI)
+    r = (x - k * TWO_PI_HI) - k * TWO_PI_LO
+    return (r + TWO_PI * (r < -np.pi)) - TWO_PI * (r > np.pi)
+
+
+def wrap(x: np.ndarray | float) -> np.ndarray | float:
+    """The one angle wrap: ``x`` (rad, a float or a float64 array) modulo 2 pi into (-pi, pi].
+
+    The value is ``(x + pi) mod TWO_PI`` (exact, :func:`remainder_2pi`) moved into (0, TWO_PI],
+    minus pi: what ``numpy.mod`` gives, and what the solver has always returned. The only
+    roundings are those of ``x + pi`` and of the final ``- pi``, so a value already in
+    (-pi, pi] may move by an ulp (the indicator rule therefore reads :func:`remainder_2pi`, which
+    does not round). Beyond 2**6 turns (402 rad) ``x`` is first reduced exactly by whole
+    multiples of 2**6 TWO_PI: ``x + pi`` would otherwise round by up to half of ``x``'s float
+    spacing, and beyond 1e16 rad lose pi altogether (``numpy.mod(x + pi, 2 pi) - pi`` is then
+    ``x``'s angle plus pi). So every finite ``x``, 1e300 included, gives a value in (-pi, pi]
+    within 3e-14 rad of ``x``'s remainder; NaN and infinity give NaN.
+
+    Written once over numpy operations: numpy code calls it on arrays (through
+    :func:`wrap_angle`) and the compiled kernels call this same function on scalars
+    (:func:`ik7r._kernels.jit.shared` registers it with numba; in pure-Python mode they call it as
+    it is), so both give the same bits.
+    """
+    while np.any(np.abs(x) >= TWO_PI_2_6):  # once at most, as in remainder_2pi
+        x = np.fmod(x, TWO_PI_2_6)  # exact, the same angle; a smaller x loses less to x + pi
+    r = remainder_2pi_below_2_26(x + np.pi)
+    return (r + TWO_PI * (r <= 0.0)) - np.pi
+
+
 def wrap_angle(x: ArrayLike) -> np.ndarray:
-    """Angles wrapped to (-pi, pi]."""
-    y = np.mod(np.asarray(x, dtype=float) + np.pi, 2 * np.pi)
-    y = np.where(y <= 0.0, y + 2 * np.pi, y)
-    return y - np.pi
+    """Angles wrapped to (-pi, pi] (:func:`wrap` of ``x`` as float64).
+
+    >>> float(wrap_angle(-np.pi)), float(wrap_angle(3 * np.pi)), float(wrap_angle(1e300))
+    (3.141592653589793, 3.141592653589793, -0.7234267005270318)
+    """
+    return wrap(np.asarray(x, dtype=float))  # type: ignore[return-value]
 
 
 def nearest_rotation(R: ArrayLike) -> np.ndarray:

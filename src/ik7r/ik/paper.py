@@ -31,6 +31,7 @@ from .._kernels import (
 )
 from .._kernels import params as L
 from ..geometry.checks import check_config, check_transforms
+from ..geometry.configs import arm_elbow_wrist
 from ..geometry.rotations import wrap_angle
 
 if TYPE_CHECKING:
@@ -161,10 +162,7 @@ def _arm_by_indicators(P, Ld, arm, elbow, K):
             t1, t2, t3, ok = arm_ik(P[0], P[1], P[2], Ld, front, elb, 0.0, K)
             if not ok:
                 continue
-            q1 = math.remainder(user_angle(0, t1, K), 2 * math.pi)
-            q3 = math.remainder(user_angle(2, t3, K), 2 * math.pi)
-            a = 1 if -0.5 * math.pi <= q1 < 0.5 * math.pi else 0
-            e = 1 if -0.5 * math.pi <= q3 < 0.5 * math.pi else 0
+            a, e, _ = arm_elbow_wrist(user_angle(0, t1, K), user_angle(2, t3, K), 0.0)
             if a == arm and e == elbow:
                 return np.array([t1, t2, t3])
     return None
