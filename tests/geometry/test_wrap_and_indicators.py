@@ -221,16 +221,17 @@ def test_indicators_in_every_form(rows):
 @given(st.tuples(hostile, hostile, hostile))
 def test_matches_keeps_its_boundary_rule_on_top_of_the_one_rule(r):
     """``matches`` says yes to a solution's own indicators always, and to another triple only on
-    a boundary: q1 or q3 within BOUNDARY_TOL of +-pi/2, or a straight or fully bent wrist."""
+    a boundary: q1 or q3 within BOUNDARY_TOL of +-pi/2, a straight wrist (within SINGULAR_WRIST of
+    0) or a fully bent one (within FOLDED_WRIST of pi)."""
     if not all(math.isfinite(v) for v in r):
         return
     q = np.zeros(6)
     q[[0, 2, 4]] = r
     own = reference_indicators(*r)
     a, e, w = (reference_wrap(v) for v in r)
-    tol, singular = _select.BOUNDARY_TOL, _select.SINGULAR_WRIST
+    tol, singular, folded = _select.BOUNDARY_TOL, _select.SINGULAR_WRIST, _select.FOLDED_WRIST
     free = (abs(abs(a) - math.pi / 2) <= tol, abs(abs(e) - math.pi / 2) <= tol,
-            abs(w) < singular or math.pi - abs(w) < singular)
+            abs(w) < singular or math.pi - abs(w) < folded)
     for triple in APPENDIX3.values():
         expected = all(t == o or f for t, o, f in zip(triple, own, free))
         assert bool(_select.matches(q, *triple)) == expected, (r, triple)
