@@ -19,7 +19,7 @@ import numpy as np
 
 from . import params as L
 from .arm import arm_ik
-from .fk import dh_step_cs, fk_user, polish, residual, user_angle
+from .fk import dh_step_cs, fk_jacobian, fk_user, polish, pose_error, residual, solve6, user_angle
 from .jit import njit
 from .poly import (
     ISOLATE_WORK,
@@ -72,6 +72,15 @@ DEVIATING_ENDS = 2e-2
 SCAN_NEAR = 1e-7
 SCAN_NEAR_DEVIATING = 1e-2
 
+#: Straight wrist of a model that deviates from the idealised one (see :func:`_straight_family`):
+#: a candidate with theta5 below this (rad) starts a scan of the split q4 over the whole turn,
+#: on a grid of REDUCED_GRID cells with REDUCED_ITERS Gauss-Newton steps per point; at most
+#: _NFAMILIES arms per pose are remembered (further ones are scanned without that check).
+STRAIGHT_DEVIATING = 2e-2
+REDUCED_GRID = 48
+REDUCED_ITERS = 4
+_NFAMILIES = 8
+
 #: Largest number of Bernstein coefficients, and of brackets.
 _NB = MAX_DEGREE + 1
 _NBRACKETS = 24
@@ -94,12 +103,13 @@ _W, WORK_SIZE = _offsets(
     MATS=7 * 16, P=3, A=3, TH=7, Q6=6, QQ=6,
     BLO=_NBRACKETS, BHI=_NBRACKETS, BSURE=_NBRACKETS, FOUND=REFINE_GRID + 2,
     BCOEF=_NBRACKETS * _NB, CAST=_NB, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP, NB=1,
-    SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES,
+    SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES, FAM=4 * _NFAMILIES, NFAM=1,
 )
 _MATS, _P, _A, _TH, _Q6, _QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"], _W["QQ"]
 _BLO, _BHI, _BSURE, _FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
 _BCOEF, _CAST, _ISO, _ROOTS = _W["BCOEF"], _W["CAST"], _W["ISO"], _W["ROOTS"]
 _NBK, _SCAN, _SUB = _W["NB"], _W["SCAN"], _W["SUB"]
+_FAM, _NFAM = _W["FAM"], _W["NFAM"]
 
 
 @njit
@@ -323,6 +333,8 @@ def _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, fi
     qq = ws[_QQ:_QQ + 6]  # q completed with a wrist solution
     for i in range(3):
         q[i] = user_angle(i, _angle(th, i), K)
+    if K[L.DEVIATION] > 0.0 and t5 < STRAIGHT_DEVIATING:
+        count = _straight_family(q, Q, Td, K, out, count, ws, mats)
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
     if t5 < FOLD_WINDOW:
         # straight wrist: one member of the theta4 + theta7 family
@@ -853,6 +865,7 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
     for i in range(3):
         a[i] /= na
     roots = ws[_ROOTS:_ROOTS + ROOT_CAP]
+    ws[_NFAM] = 0.0
     nr = _roots(0, p, a, K, Bm, bnorm, roots, ws)
     count = 0
     if nr < 0:
@@ -923,3 +936,211 @@ def _merge_folded(out, count):
                 out[keep, j] = out[s, j]
             keep += 1
     return keep
+
+
+@njit(allocates=True)
+def _straight_family(q, Q, Td, K, out, count, ws, mats):
+    """Every exact solution near the straight-wrist family of the arm ``q[:3]`` (user angles) on a
+    model that deviates from the idealised one. On the idealised model a straight wrist leaves
+    only ``s4 q4 + s7 q7`` defined (a circle of solutions, the split free); the deviation breaks
+    the circle into isolated solutions, spread over the whole turn of the split, with the arm
+    and q5 moved by about the deviation. With q4 fixed the five other joints are regular there,
+    so these solutions are the zeros of one function of q4 (:func:`_reduced_scan`), found by a
+    scan of the whole turn. ``Q``: the wrist target of the arm (its angle about z is the sum).
+    The arms already scanned for this pose are skipped."""
+    s4 = K[L.SIGN + 3]
+    s7 = K[L.SIGN + 6]
+    total = math.atan2(Q[1, 0], Q[0, 0]) - K[L.THETA_OFFSET4] - K[L.THETA_OFFSET7]
+    nf = int(ws[_NFAM])
+    for k in range(min(nf, _NFAMILIES)):
+        f = ws[_FAM + 4 * k:_FAM + 4 * k + 4]
+        far = abs(wrap(f[3] - total))
+        for i in range(3):
+            far = max(far, abs(wrap(f[i] - q[i])))
+        if far < 1e-2:
+            return count
+    if nf < _NFAMILIES:
+        f = ws[_FAM + 4 * nf:_FAM + 4 * nf + 4]
+        for i in range(3):
+            f[i] = q[i]
+        f[3] = total
+        ws[_NFAM] = nf + 1
+    start = np.empty(6)
+    for i in range(3):
+        start[i] = q[i]
+    start[3] = -math.pi
+    start[4] = user_angle(4, 0.0, K)
+    start[5] = s7 * (total + s4 * math.pi)
+    return _reduced_scan(start, 3, -math.pi, math.pi, REDUCED_GRID, Td, K, out, count, mats)
+
+
+@njit
+def _det6(A):
+    """Determinant of ``A`` (6, 6; overwritten), by elimination with partial pivoting."""
+    det = 1.0
+    for k in range(6):
+        p = k
+        for i in range(k + 1, 6):
+            if abs(A[i, k]) > abs(A[p, k]):
+                p = i
+        if A[p, k] == 0.0:
+            return 0.0
+        if p != k:
+            for c in range(6):
+                A[k, c], A[p, c] = A[p, c], A[k, c]
+            det = -det
+        det *= A[k, k]
+        for i in range(k + 1, 6):
+            f = A[i, k] / A[k, k]
+            for c in range(k, 6):
+                A[i, c] -= f * A[k, c]
+    return det
+
+
+@njit
+def _reduced_at(q, j, v, Td, K, T, J, A, e, g, dq, ZO):
+    """The reduced residual at ``q[j] = v``: Gauss-Newton on the five other joints of ``q`` (from
+    their values in ``q``, updated in place) for the least-squares pose error, then
+    ``det [J_other | e]`` (position rows over the robot's size): a signed scalar, continuous in
+    ``v``, zero exactly where the least-squares point is a solution (``e`` is orthogonal to the
+    five columns there, so the determinant is ``e`` along their normal). Returns (r, |e|, ok);
+    ``T`` is left at the forward kinematics of ``q``."""
+    q[j] = v
+    w = 1.0 / K[L.SCALE]
+    ok = True
+    done = False
+    for it in range(REDUCED_ITERS + 1):
+        fk_jacobian(q, K, T, J, ZO)
+        pose_error(T, Td, e, ZO[:3, :3])
+        for r in range(3):
+            e[r] *= w
+            for c in range(6):
+                J[r, c] *= w
+        if it == REDUCED_ITERS or done:
+            break
+        for a_ in range(6):
+            g[a_] = 0.0
+            for b_ in range(6):
+                A[a_, b_] = 0.0
+            if a_ == j:
+                A[a_, a_] = 1.0
+                continue
+            for r in range(6):
+                g[a_] += J[r, a_] * e[r]
+            for b_ in range(6):
+                if b_ != j:
+                    s = 0.0
+                    for r in range(6):
+                        s += J[r, a_] * J[r, b_]
+                    A[a_, b_] = s
+        if solve6(A, g, dq) < 1e-15:
+            ok = False
+            break
+        big = 0.0
+        for i in range(6):
+            if i != j:
+                big = max(big, abs(dq[i]))
+        f = 1.0 if big <= 0.1 else 0.1 / big
+        for i in range(6):
+            if i != j:
+                q[i] += f * dq[i]
+        done = big < 1e-13
+    norm = 0.0
+    for r in range(6):
+        norm += e[r] * e[r]
+        for c in range(6):
+            A[r, c] = e[r] if c == j else J[r, c]
+    if not (norm < 1e300):
+        return 0.0, math.inf, False
+    return _det6(A), math.sqrt(norm), ok
+
+
+@njit(allocates=True)
+def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
+    """Every exact solution on the branch of the reduced residual (:func:`_reduced_at`) with
+    joint ``j`` over [v0, v1], tracked from ``start`` on a grid of ``m`` cells (each point
+    Gauss-Newton from the extrapolation of the two before it): sign changes refined by Illinois
+    in ``v``, local minima of |e| (tangencies, two roots in one cell) by golden section; each
+    candidate is verified (polished) on the exact forward kinematics and added."""
+    T = np.empty((4, 4))
+    J = np.empty((6, 6))
+    A = np.empty((6, 6))
+    ZO = np.empty((7, 6))
+    e = np.empty(6)
+    g = np.empty(6)
+    dq = np.empty(6)
+    qs = np.empty((m + 1, 6))
+    rs = np.empty(m + 1)
+    es = np.empty(m + 1)
+    qt = np.empty(6)
+    for k in range(m + 1):
+        for i in range(6):
+            if k == 0:
+                qt[i] = start[i]
+            elif k == 1:
+                qt[i] = qs[0, i]
+            else:
+                qt[i] = 2.0 * qs[k - 1, i] - qs[k - 2, i]
+        r, res, ok = _reduced_at(qt, j, v0 + (v1 - v0) * k / m, Td, K, T, J, A, e, g, dq, ZO)
+        for i in range(6):
+            qs[k, i] = qt[i]
+        rs[k] = r if ok else np.nan
+        es[k] = res if ok else np.inf
+        if ok:
+            dp, dr = residual(T, Td)
+            if dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]:
+                count = _add(qt.copy(), out, count, Td, K, mats)
+    for k in range(m):
+        va = v0 + (v1 - v0) * k / m
+        vb = v0 + (v1 - v0) * (k + 1) / m
+        ra = rs[k]
+        rb = rs[k + 1]
+        if not (math.isfinite(ra) and math.isfinite(rb)):
+            continue
+        if ra * rb < 0.0:
+            for i in range(6):
+                qt[i] = qs[k, i]
+            side = 0
+            for _ in range(60):
+                v = (va * rb - vb * ra) / (rb - ra)
+                if not (min(va, vb) < v < max(va, vb)):
+                    v = 0.5 * (va + vb)
+                r, res, ok = _reduced_at(qt, j, v, Td, K, T, J, A, e, g, dq, ZO)
+                if not ok:
+                    break
+                dp, dr = residual(T, Td)
+                if r == 0.0 or (dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]):
+                    break
+                if (r > 0.0) == (rb > 0.0):
+                    vb, rb = v, r
+                    if side == -1:
+                        ra *= 0.5
+                    side = -1
+                else:
+                    va, ra = v, r
+                    if side == 1:
+                        rb *= 0.5
+                    side = 1
+                if abs(vb - va) <= 1e-15 * (1.0 + abs(va)):
+                    break
+            count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
+        elif 0 < k and es[k] <= es[k - 1] and es[k] <= es[k + 1] and math.isfinite(rs[k - 1]) \
+                and rs[k - 1] * ra > 0.0:
+            # a dip of |e| without a sign change: a tangency, or two roots within one cell
+            lo = v0 + (v1 - v0) * (k - 1) / m
+            hi = vb
+            gr = 0.5 * (math.sqrt(5.0) - 1.0)
+            for i in range(6):
+                qt[i] = qs[k, i]
+            for _ in range(40):
+                x1 = hi - gr * (hi - lo)
+                x2 = lo + gr * (hi - lo)
+                _, f1, _ = _reduced_at(qt, j, x1, Td, K, T, J, A, e, g, dq, ZO)
+                _, f2, _ = _reduced_at(qt, j, x2, Td, K, T, J, A, e, g, dq, ZO)
+                if f1 < f2:
+                    hi = x2
+                else:
+                    lo = x1
+            _reduced_at(qt, j, 0.5 * (lo + hi), Td, K, T, J, A, e, g, dq, ZO)
+            count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
+    return count
