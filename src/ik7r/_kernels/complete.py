@@ -77,9 +77,15 @@ SCAN_NEAR_DEVIATING = 1e-2
 #: on a grid of REDUCED_GRID cells with REDUCED_ITERS Gauss-Newton steps per point; at most
 #: _NFAMILIES arms per pose are remembered (further ones are scanned without that check).
 STRAIGHT_DEVIATING = 2e-2
-REDUCED_GRID = 48
+REDUCED_GRID = 32
 REDUCED_ITERS = 4
 _NFAMILIES = 8
+#: Deviating models: a solution whose Jacobian's smallest singular value (position rows over the
+#: robot's size, relative to the largest) is below this may have a partner the idealised model
+#: does not have (see :func:`_partners`), looked for up to PARTNER_REACH (rad) away.
+PARTNER_SIGMA = 2e-3
+PARTNER_REACH = 0.3
+PARTNER_PIVOT = 2e-2  # a least LU pivot (relative) above this skips the singular value decomposition
 
 #: Largest number of Bernstein coefficients, and of brackets.
 _NB = MAX_DEGREE + 1
@@ -333,7 +339,8 @@ def _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, fi
     qq = ws[_QQ:_QQ + 6]  # q completed with a wrist solution
     for i in range(3):
         q[i] = user_angle(i, _angle(th, i), K)
-    if K[L.DEVIATION] > 0.0 and t5 < STRAIGHT_DEVIATING:
+    if K[L.DEVIATION] > 0.0 and t5 < STRAIGHT_DEVIATING and theta5_of_bend(Q, K) < STRAIGHT_DEVIATING:
+        # (the bend of the arm's own target: a root clamped to the end of the range is not enough)
         count = _straight_family(q, Q, Td, K, out, count, ws, mats)
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
     if t5 < FOLD_WINDOW:
@@ -910,6 +917,8 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
             count = _scan_theta5(math.pi - DEVIATING_ENDS, math.pi, p, a, R07, Td, K, hint, has_hint,
                                  out, count, filt, ws, mats)
     count = _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+    if K[L.DEVIATION] > 0.0:
+        count = _partners(Td, K, out, count, mats)
     if folded:
         count = _merge_folded(out, count)
     return count
@@ -1044,7 +1053,7 @@ def _reduced_at(q, j, v, Td, K, T, J, A, e, g, dq, ZO):
         for i in range(6):
             if i != j:
                 q[i] += f * dq[i]
-        done = big < 1e-13
+        done = big < 1e-10  # (Gauss-Newton converges quadratically: one step more is rounding)
     norm = 0.0
     for r in range(6):
         norm += e[r] * e[r]
@@ -1053,6 +1062,21 @@ def _reduced_at(q, j, v, Td, K, T, J, A, e, g, dq, ZO):
     if not (norm < 1e300):
         return 0.0, math.inf, False
     return _det6(A), math.sqrt(norm), ok
+
+
+@njit
+def _dips_to_zero(r0, r1, r2):
+    """Whether the parabola through three equally spaced values of one sign (``r1`` the least in
+    magnitude) comes within half of ``r1`` of zero between them: a dip that may hide a tangency
+    or two roots, not a shallow minimum."""
+    c = 0.5 * (r0 + r2) - r1
+    b = 0.5 * (r2 - r0)
+    if c == 0.0 or (c > 0.0) != (r1 > 0.0):
+        return False
+    t = -b / (2.0 * c)
+    if abs(t) > 1.0:
+        return False
+    return abs(r1 + b * t + c * t * t) < 0.5 * abs(r1)
 
 
 @njit(allocates=True)
@@ -1101,7 +1125,7 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
             for i in range(6):
                 qt[i] = qs[k, i]
             side = 0
-            for _ in range(60):
+            for _ in range(40):
                 v = (va * rb - vb * ra) / (rb - ra)
                 if not (min(va, vb) < v < max(va, vb)):
                     v = 0.5 * (va + vb)
@@ -1121,18 +1145,18 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
                     if side == 1:
                         rb *= 0.5
                     side = 1
-                if abs(vb - va) <= 1e-15 * (1.0 + abs(va)):
-                    break
+                if abs(vb - va) <= 1e-11:
+                    break  # (the polish of _accept takes it to the last bits)
             count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
-        elif 0 < k and es[k] <= es[k - 1] and es[k] <= es[k + 1] and math.isfinite(rs[k - 1]) \
-                and rs[k - 1] * ra > 0.0:
+        elif (0 < k and es[k] <= es[k - 1] and es[k] <= es[k + 1] and math.isfinite(rs[k - 1])
+              and rs[k - 1] * ra > 0.0 and _dips_to_zero(rs[k - 1], ra, rb)):
             # a dip of |e| without a sign change: a tangency, or two roots within one cell
             lo = v0 + (v1 - v0) * (k - 1) / m
             hi = vb
             gr = 0.5 * (math.sqrt(5.0) - 1.0)
             for i in range(6):
                 qt[i] = qs[k, i]
-            for _ in range(40):
+            for _ in range(24):
                 x1 = hi - gr * (hi - lo)
                 x2 = lo + gr * (hi - lo)
                 _, f1, _ = _reduced_at(qt, j, x1, Td, K, T, J, A, e, g, dq, ZO)
@@ -1143,4 +1167,61 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
                     lo = x1
             _reduced_at(qt, j, 0.5 * (lo + hi), Td, K, T, J, A, e, g, dq, ZO)
             count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
+    return count
+
+
+@njit(allocates=True)
+def _partners(Td, K, out, count, mats):
+    """Solutions of a deviating model next to a nearly singular one. Where the exact model has
+    two solutions close together whose idealised counterparts are complex (or merged), the
+    polish of every idealised candidate can land on one of them. At a solution ``x`` with the
+    Jacobian's smallest singular value ``sigma`` (left and right vectors ``u``, ``v``) the pose
+    error along ``x + t v`` is ``sigma t + c t^2 / 2`` on ``u`` (``c`` by central differences):
+    its second zero ``t = -2 sigma / c`` is the partner's prediction, polished on the exact model
+    (a check, not a certificate: see docs/guide/edges.md)."""
+    T = np.empty((4, 4))
+    J = np.empty((6, 6))
+    A = np.empty((6, 6))
+    ZO = np.empty((7, 6))
+    ep = np.empty(6)
+    qt = np.empty(6)
+    w = 1.0 / K[L.SCALE]
+    n0 = count
+    for s in range(n0):
+        if abs(wrap(K[L.SIGN + 4] * out[s, 4] + K[L.DH + 19])) < STRAIGHT_DEVIATING:
+            continue  # a straight wrist's neighbours: the whole turn is scanned (_straight_family)
+        x = out[s].copy()
+        fk_jacobian(x, K, T, J, ZO)
+        for r in range(3):
+            for c in range(6):
+                J[r, c] *= w
+        for r in range(6):
+            for c in range(6):
+                A[r, c] = J[r, c]
+            ep[r] = 0.0
+        if solve6(A, ep, qt) > PARTNER_PIVOT:
+            continue  # clearly regular (the least pivot bounds the singular values roughly)
+        U, S, Vt = np.linalg.svd(J)
+        if not S[5] < PARTNER_SIGMA * S[0]:
+            continue
+        h = 1e-3
+        curv = 0.0
+        for sg in (1.0, -1.0):
+            for i in range(6):
+                qt[i] = x[i] + sg * h * Vt[5, i]
+            fk_user(qt, K, T)
+            pose_error(T, Td, ep, ZO[:3, :3])
+            for r in range(3):
+                ep[r] *= w
+            for r in range(6):
+                curv -= U[r, 5] * ep[r]  # F = -pose_error
+        curv /= h * h
+        if curv == 0.0:
+            continue
+        t = -2.0 * S[5] / curv
+        if abs(t) > PARTNER_REACH:
+            continue
+        for i in range(6):
+            qt[i] = x[i] + t * Vt[5, i]
+        count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
     return count
