@@ -89,7 +89,21 @@ def main(argv: list[str]) -> int:
             t, missed = _time(robot, Q)
             print(f"{robot.name:14s} {kind:9s} {1e6 * np.median(t):8.1f} {1e6 * np.percentile(t, 99):8.1f} "
                   f"{1e6 * t.max():9.1f} {missed:7d}")
+    _round_trip(ik7r.load_robot("irb5400"), rng, 100_000)
     return 0
+
+
+def _round_trip(robot: Robot, rng, n: int) -> None:
+    """Issue 12 item 4: ``n`` uniform poses of ``robot`` through ``ik_all_batch`` (multithreaded);
+    how many sources are not among the answers."""
+    Q = rng.uniform(-np.pi, np.pi, (n, 6))
+    T = robot.fk(Q)
+    t0 = time.perf_counter()
+    S, V = robot.ik_all_batch(T)
+    elapsed = time.perf_counter() - t0
+    missed = sum(not _found(robot, S[i][V[i]], Q[i]) for i in range(n))
+    print(f"{robot.name} round trip: {n} uniform poses, {missed} sources missed "
+          f"({elapsed:.1f} s, ik_all_batch)")
 
 
 if __name__ == "__main__":

@@ -77,7 +77,7 @@ SCAN_NEAR_DEVIATING = 1e-2
 #: on a grid of REDUCED_GRID cells with REDUCED_ITERS Gauss-Newton steps per point; at most
 #: _NFAMILIES arms per pose are remembered (further ones are scanned without that check).
 STRAIGHT_DEVIATING = 2e-2
-REDUCED_GRID = 32
+REDUCED_GRID = 48
 REDUCED_ITERS = 4
 _NFAMILIES = 8
 #: Deviating models: a solution whose Jacobian's smallest singular value (position rows over the
@@ -1067,8 +1067,8 @@ def _reduced_at(q, j, v, Td, K, T, J, A, e, g, dq, ZO):
 @njit
 def _dips_to_zero(r0, r1, r2):
     """Whether the parabola through three equally spaced values of one sign (``r1`` the least in
-    magnitude) comes within half of ``r1`` of zero between them: a dip that may hide a tangency
-    or two roots, not a shallow minimum."""
+    magnitude) comes down to half of ``r1`` or beyond zero between them: a dip that may hide a
+    tangency or two roots, not a shallow minimum."""
     c = 0.5 * (r0 + r2) - r1
     b = 0.5 * (r2 - r0)
     if c == 0.0 or (c > 0.0) != (r1 > 0.0):
@@ -1076,7 +1076,37 @@ def _dips_to_zero(r0, r1, r2):
     t = -b / (2.0 * c)
     if abs(t) > 1.0:
         return False
-    return abs(r1 + b * t + c * t * t) < 0.5 * abs(r1)
+    bottom = r1 + b * t + c * t * t
+    return (bottom < 0.5 * r1) if r1 > 0.0 else (bottom > 0.5 * r1)  # (or beyond zero)
+
+
+@njit
+def _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO):
+    """Refine the root of the reduced residual bracketed by [va, vb] (``ra``, ``rb`` of opposite
+    signs) by Illinois, each point Gauss-Newton from the one before (``qt``, left at the root)."""
+    side = 0
+    for _ in range(40):
+        v = (va * rb - vb * ra) / (rb - ra)
+        if not (min(va, vb) < v < max(va, vb)):
+            v = 0.5 * (va + vb)
+        r, _, ok = _reduced_at(qt, j, v, Td, K, T, J, A, e, g, dq, ZO)
+        if not ok:
+            return
+        dp, dr = residual(T, Td)
+        if r == 0.0 or (dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]):
+            return
+        if (r > 0.0) == (rb > 0.0):
+            vb, rb = v, r
+            if side == -1:
+                ra *= 0.5
+            side = -1
+        else:
+            va, ra = v, r
+            if side == 1:
+                rb *= 0.5
+            side = 1
+        if abs(vb - va) <= 1e-11:
+            return  # (the polish of _accept takes it to the last bits)
 
 
 @njit(allocates=True)
@@ -1084,8 +1114,9 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
     """Every exact solution on the branch of the reduced residual (:func:`_reduced_at`) with
     joint ``j`` over [v0, v1], tracked from ``start`` on a grid of ``m`` cells (each point
     Gauss-Newton from the extrapolation of the two before it): sign changes refined by Illinois
-    in ``v``, local minima of |e| (tangencies, two roots in one cell) by golden section; each
-    candidate is verified (polished) on the exact forward kinematics and added."""
+    in ``v``, dips toward zero (tangencies, two roots in one cell) by golden section on the
+    signed residual and split at its bottom; each candidate is verified (polished) on the exact
+    forward kinematics and added."""
     T = np.empty((4, 4))
     J = np.empty((6, 6))
     A = np.empty((6, 6))
@@ -1124,49 +1155,39 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
         if ra * rb < 0.0:
             for i in range(6):
                 qt[i] = qs[k, i]
-            side = 0
-            for _ in range(40):
-                v = (va * rb - vb * ra) / (rb - ra)
-                if not (min(va, vb) < v < max(va, vb)):
-                    v = 0.5 * (va + vb)
-                r, res, ok = _reduced_at(qt, j, v, Td, K, T, J, A, e, g, dq, ZO)
-                if not ok:
-                    break
-                dp, dr = residual(T, Td)
-                if r == 0.0 or (dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]):
-                    break
-                if (r > 0.0) == (rb > 0.0):
-                    vb, rb = v, r
-                    if side == -1:
-                        ra *= 0.5
-                    side = -1
-                else:
-                    va, ra = v, r
-                    if side == 1:
-                        rb *= 0.5
-                    side = 1
-                if abs(vb - va) <= 1e-11:
-                    break  # (the polish of _accept takes it to the last bits)
+            _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO)
             count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
         elif (0 < k and es[k] <= es[k - 1] and es[k] <= es[k + 1] and math.isfinite(rs[k - 1])
               and rs[k - 1] * ra > 0.0 and _dips_to_zero(rs[k - 1], ra, rb)):
-            # a dip of |e| without a sign change: a tangency, or two roots within one cell
+            # a dip of |e| without a sign change: a tangency, or two roots within one cell; where
+            # the bottom has the other sign, both roots are refined
             lo = v0 + (v1 - v0) * (k - 1) / m
             hi = vb
             gr = 0.5 * (math.sqrt(5.0) - 1.0)
             for i in range(6):
                 qt[i] = qs[k, i]
-            for _ in range(24):
+            sgn = 1.0 if ra > 0.0 else -1.0
+            for _ in range(24):  # the bottom of the signed residual (|e| would stop at a root)
                 x1 = hi - gr * (hi - lo)
                 x2 = lo + gr * (hi - lo)
-                _, f1, _ = _reduced_at(qt, j, x1, Td, K, T, J, A, e, g, dq, ZO)
-                _, f2, _ = _reduced_at(qt, j, x2, Td, K, T, J, A, e, g, dq, ZO)
-                if f1 < f2:
+                f1, _, _ = _reduced_at(qt, j, x1, Td, K, T, J, A, e, g, dq, ZO)
+                f2, _, _ = _reduced_at(qt, j, x2, Td, K, T, J, A, e, g, dq, ZO)
+                if sgn * f1 < sgn * f2:
                     hi = x2
                 else:
                     lo = x1
-            _reduced_at(qt, j, 0.5 * (lo + hi), Td, K, T, J, A, e, g, dq, ZO)
+            vm = 0.5 * (lo + hi)
+            rm, _, okm = _reduced_at(qt, j, vm, Td, K, T, J, A, e, g, dq, ZO)
+            qm = qt.copy()
             count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
+            if okm and rm * ra < 0.0:
+                v_lo = v0 + (v1 - v0) * (k - 1) / m
+                for vx, rx in ((v_lo, rs[k - 1]), (vb, rb)):
+                    for i in range(6):
+                        qt[i] = qm[i]
+                    _reduced_root(qt, j, min(vx, vm), max(vx, vm), rx if vx < vm else rm,
+                                  rm if vx < vm else rx, Td, K, T, J, A, e, g, dq, ZO)
+                    count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
     return count
 
 
