@@ -76,7 +76,7 @@ SCAN_NEAR_DEVIATING = 1e-2
 #: a candidate with theta5 below this (rad) starts a scan of the split q4 over the whole turn,
 #: on a grid of REDUCED_GRID cells with REDUCED_ITERS Gauss-Newton steps per point; at most
 #: _NFAMILIES arms per pose are remembered (further ones are scanned without that check).
-STRAIGHT_DEVIATING = 2e-2
+STRAIGHT_DEVIATING = 0.1
 REDUCED_GRID = 48
 REDUCED_ITERS = 4
 _NFAMILIES = 8
@@ -209,7 +209,8 @@ def _add(q, out, count, Td, K, mats):
     a solution in every joint, or within MERGE_WINDOW and joined to it by a segment that is
     exact all along (:func:`_joined`): where the FK is flat (a
     nearly singular arm and wrist at once) exact solutions come as clusters of shadows wider
-    than DUP_TOL, while two distinct solutions have an inexact pose between them."""
+    than DUP_TOL, while two distinct solutions have an inexact pose between them. A new
+    solution when ``out`` is full raises RuntimeError (never a silent drop)."""
     for i in range(6):
         q[i] = wrap(q[i])
     for k in range(count):
@@ -218,13 +219,17 @@ def _add(q, out, count, Td, K, mats):
             far = max(far, abs(wrap(out[k, i] - q[i])))
         if far <= DUP_TOL:
             return count
-        if far < MERGE_WINDOW and count < out.shape[0] and _joined(out[k], q, out[count], Td, K, mats):
-            return count
-    if count < out.shape[0]:
-        for i in range(6):
-            out[count, i] = q[i]
-        count += 1
-    return count
+        if far < MERGE_WINDOW:
+            # (scratch: the next free row, or when full the wrist's work matrix, free here)
+            mid = out[count] if count < out.shape[0] else mats[_WR].reshape(16)[:6]
+            if _joined(out[k], q, mid, Td, K, mats):
+                return count
+    if count == out.shape[0]:
+        raise RuntimeError("ik7r: more distinct solutions than the output holds (MAX_SOLUTIONS); "
+                           "none is dropped silently: please report the pose")
+    for i in range(6):
+        out[count, i] = q[i]
+    return count + 1
 
 
 @njit
@@ -751,16 +756,18 @@ def _roots(kind, p, a, K, Bm, bnorm, roots, ws):
         else:
             m = refine(kind, blo[k], bhi[k], p, a, K, found)
         for i in range(m):
-            if count < roots.shape[0]:
-                # u -> d; for a model that deviates from the idealised one a root just outside
-                # the range stays where it is (its arm exists there; theta5 is clamped to 0 or pi)
-                u = found[i]
-                if K[L.DEVIATION] == 0.0:
-                    u = min(1.0, max(_u_fold(K), u))
-                if abs(u) < 1e-12:
-                    continue  # the folded wrist of a 45 deg twist (d at infinity): see solve_all
-                roots[count] = K[L.KW] / u
-                count += 1
+            # u -> d; for a model that deviates from the idealised one a root just outside
+            # the range stays where it is (its arm exists there; theta5 is clamped to 0 or pi)
+            u = found[i]
+            if K[L.DEVIATION] == 0.0:
+                u = min(1.0, max(_u_fold(K), u))
+            if abs(u) < 1e-12:
+                continue  # the folded wrist of a 45 deg twist (d at infinity): see solve_all
+            if count == roots.shape[0]:
+                raise RuntimeError("ik7r: more candidate roots than ROOT_CAP; none is dropped "
+                                   "silently: please report the pose")
+            roots[count] = K[L.KW] / u
+            count += 1
     if K[L.DEVIATION] > 0.0:
         count = _near_misses(kind, lo, hi, p, a, K, roots, count)
     return count
@@ -780,11 +787,14 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
     for i in range(1, m):
         fa = abs(fs[i])
         if (fa <= abs(fs[i - 1]) and fa <= abs(fs[i + 1]) and fs[i - 1] * fs[i] > 0.0
-                and fs[i] * fs[i + 1] > 0.0 and fa < NEAR_RATIO * ms[i] and count < roots.shape[0]):
+                and fs[i] * fs[i + 1] > 0.0 and fa < NEAR_RATIO * ms[i]):
             u = _golden(kind, lo + (hi - lo) * (i - 1) / m, lo + (hi - lo) * (i + 1) / m, p, a, K)
             h = 0.5 * (hi - lo) / m
             for v in (u, u - h, u + h):  # the minimum and starts on either side of it
-                if abs(v) > 1e-12 and count < roots.shape[0]:
+                if abs(v) > 1e-12:
+                    if count == roots.shape[0]:
+                        raise RuntimeError("ik7r: more candidate roots than ROOT_CAP; none is "
+                                           "dropped silently: please report the pose")
                     roots[count] = K[L.KW] / v
                     count += 1
     return count
