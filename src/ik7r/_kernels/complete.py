@@ -76,7 +76,12 @@ SCAN_NEAR_DEVIATING = 1e-2
 #: a candidate with theta5 below this (rad) starts a scan of the split q4 over the whole turn,
 #: on a grid of REDUCED_GRID cells with REDUCED_ITERS Gauss-Newton steps per point; at most
 #: _NFAMILIES arms per pose are remembered (further ones are scanned without that check).
-STRAIGHT_DEVIATING = 0.1
+STRAIGHT_DEVIATING = 2e-2
+#: ... and below this where the arm is near the shoulder singular set (its virtual centre within
+#: SHOULDER_DEVIATING of the robot's size from axis 1): there the deviation spreads the family's
+#: solutions further (to |q5| = 0.07 on the IRB 5400).
+STRAIGHT_SHOULDER = 0.1
+SHOULDER_DEVIATING = 1e-2
 REDUCED_GRID = 48
 REDUCED_ITERS = 4
 _NFAMILIES = 8
@@ -344,9 +349,11 @@ def _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, fi
     qq = ws[_QQ:_QQ + 6]  # q completed with a wrist solution
     for i in range(3):
         q[i] = user_angle(i, _angle(th, i), K)
-    if K[L.DEVIATION] > 0.0 and t5 < STRAIGHT_DEVIATING and theta5_of_bend(Q, K) < STRAIGHT_DEVIATING:
+    if K[L.DEVIATION] > 0.0 and t5 < STRAIGHT_SHOULDER:
+        window = STRAIGHT_SHOULDER if _near_shoulder(th, K) else STRAIGHT_DEVIATING
         # (the bend of the arm's own target: a root clamped to the end of the range is not enough)
-        count = _straight_family(q, Q, Td, K, out, count, ws, mats)
+        if t5 < window and theta5_of_bend(Q, K) < window:
+            count = _straight_family(q, Q, Td, K, out, count, ws, mats)
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
     if t5 < FOLD_WINDOW:
         # straight wrist: one member of the theta4 + theta7 family
@@ -955,6 +962,19 @@ def _merge_folded(out, count):
                 out[keep, j] = out[s, j]
             keep += 1
     return keep
+
+
+@njit
+def _near_shoulder(th, K):
+    """Whether the arm of DH cosines and sines ``th`` (see :func:`_arm_from_psi`) places the
+    straight wrist's virtual centre within SHOULDER_DEVIATING of the robot's size from axis 1
+    (its distance in the arm plane, ``a1`` plus the reach of joints 2 and 3)."""
+    c2, c3, s2, s3 = th[1], th[2], th[4], th[5]
+    Ld = K[L.D4] + K[L.KW]
+    e3 = K[L.EPS3]
+    x2 = K[L.A2] + K[L.A3] * c3 + e3 * Ld * s3
+    y2 = K[L.A3] * s3 - e3 * Ld * c3
+    return abs(K[L.A1] + c2 * x2 - s2 * y2) < SHOULDER_DEVIATING * K[L.SCALE]
 
 
 @njit(allocates=True)
