@@ -66,6 +66,9 @@ SCAN_PIECES = 12  # the grid and the pieces (next to branch ends, around dips) i
 #: The theta1 scan runs where the line of virtual centres passes this close (relative to the
 #: robot's size) to axis 1.
 SHOULDER_NEAR = 1e-5
+#: ... and this for a model that deviates from the idealised one (near the set its solutions come
+#: in clusters the idealised roots do not have: the nominal gap's dips are candidates there)
+SHOULDER_SCAN_DEVIATING = 2e-3
 #: Models that deviate from the idealised one: theta5 within this (rad) of 0 and pi is scanned
 #: when a root lies there.
 DEVIATING_ENDS = 2e-2
@@ -707,7 +710,8 @@ def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
     t = (p[0] * a[0] + p[1] * a[1]) / axy2
     rx = p[0] - t * a[0]
     ry = p[1] - t * a[1]
-    if rx * rx + ry * ry > (SHOULDER_NEAR * K[L.SCALE]) ** 2:
+    near = SHOULDER_NEAR if K[L.DEVIATION] == 0.0 else SHOULDER_SCAN_DEVIATING
+    if rx * rx + ry * ry > (near * K[L.SCALE]) ** 2:
         return count
     d = t - K[L.D7]
     if not (0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]):
