@@ -93,8 +93,8 @@ def test_irb5400_nearly_straight_wrist(irb):
 
 
 _OPEN = pytest.mark.xfail(reason="issue 12 item 4 open: clusters of exact solutions near the shoulder "
-                           "set whose idealised roots are complex (about 1 in 7,000 uniform poses) are "
-                           "missed when no idealised candidate polishes into them", strict=False)
+                           "set or the elbow stretch whose idealised roots are complex (3 in 100,000 "
+                           "uniform poses) are missed when no candidate lands in them", strict=False)
 
 
 @_OPEN
