@@ -6,7 +6,8 @@ stretched elbow, virtual wrist centre near axis 1 for robots without lateral off
 median, 99th percentile and worst time per call of ``robot.ik_all(T)`` (each pose the least of
 REPEATS calls) and how many source joint vectors were not among the answers (within 1e-6 rad; at a
 straight wrist through q4 + q7; beside a fully bent wrist within 1e-5, where the solver counts the
-two wrist solutions as one). Run: ``python benchmarks/edges.py [N]``.
+two wrist solutions as one); then the IRB 5400's 100,000-pose round trip through
+``ik_all_batch`` with its miss count (issue 12 item 4). Run: ``python benchmarks/edges.py [N]``.
 """
 
 from __future__ import annotations
@@ -102,7 +103,21 @@ def main(argv: list[str]) -> int:
             t, missed = _time(robot, Q)
             print(f"{robot.name:14s} {kind:9s} {1e6 * np.median(t):8.1f} {1e6 * np.percentile(t, 99):8.1f} "
                   f"{1e6 * t.max():9.1f} {missed:7d}")
+    _round_trip(ik7r.load_robot("irb5400"), np.random.default_rng(12), 100_000)
     return 0
+
+
+def _round_trip(robot: Robot, rng, n: int) -> None:
+    """Issue 12 item 4: ``n`` uniform poses of ``robot`` through ``ik_all_batch`` (multithreaded);
+    how many sources are not among the answers."""
+    Q = rng.uniform(-np.pi, np.pi, (n, 6))
+    T = robot.fk(Q)
+    t0 = time.perf_counter()
+    S, V = robot.ik_all_batch(T)
+    elapsed = time.perf_counter() - t0
+    missed = sum(not _found(robot, S[i][V[i]], Q[i]) for i in range(n))
+    print(f"{robot.name} round trip: {n} uniform poses, {missed} sources missed "
+          f"({elapsed:.1f} s, ik_all_batch)")
 
 
 if __name__ == "__main__":

@@ -20,7 +20,7 @@ import numpy as np
 from ..geometry import rotations
 from . import params as L
 from .arm import arm_ik
-from .fk import dh_step_cs, fk_user, polish, residual, user_angle
+from .fk import dh_step_cs, fk_jacobian, fk_user, polish, pose_error, residual, solve6, user_angle
 from .jit import njit, shared
 from .poly import (
     ISOLATE_WORK,
@@ -83,6 +83,9 @@ SCAN_TINY = 1e-10
 #: The theta1 scan runs where the line of virtual centres passes this close (relative to the
 #: robot's size) to axis 1.
 SHOULDER_NEAR = 1e-5
+#: ... and this for a model that deviates from the idealised one (near the set its solutions come
+#: in clusters the idealised roots do not have: the nominal gap's dips are candidates there)
+SHOULDER_SCAN_DEVIATING = 2e-3
 #: Models that deviate from the idealised one: theta5 within this (rad) of 0 and pi is scanned
 #: when a root lies there.
 DEVIATING_ENDS = 2e-2
@@ -95,6 +98,26 @@ SCAN_NEAR_DEVIATING = 1e-2
 #: the polynomial.
 FOLD_NEAR = 0.02
 FOLD_SPAN = 0.05
+
+#: Straight wrist of a model that deviates from the idealised one (see :func:`_straight_family`):
+#: a candidate with theta5 below this (rad) starts a scan of the split q4 over the whole turn,
+#: on a grid of REDUCED_GRID cells with REDUCED_ITERS Gauss-Newton steps per point; at most
+#: _NFAMILIES arms per pose are remembered (further ones are scanned without that check).
+STRAIGHT_DEVIATING = 2e-2
+#: ... and below this where the arm is near the shoulder singular set (its virtual centre within
+#: SHOULDER_DEVIATING of the robot's size from axis 1): there the deviation spreads the family's
+#: solutions further (to |q5| = 0.07 on the IRB 5400).
+STRAIGHT_SHOULDER = 0.1
+SHOULDER_DEVIATING = 1e-2
+REDUCED_GRID = 48
+REDUCED_ITERS = 4
+_NFAMILIES = 8
+#: Deviating models: a solution whose Jacobian's smallest singular value (position rows over the
+#: robot's size, relative to the largest) is below this may have a partner the idealised model
+#: does not have (see :func:`_partners`), looked for up to PARTNER_REACH (rad) away.
+PARTNER_SIGMA = 2e-3
+PARTNER_REACH = 0.3
+PARTNER_PIVOT = 2e-2  # a least LU pivot (relative) above this skips the singular value decomposition
 
 #: Largest number of Bernstein coefficients, and of brackets.
 _NB = MAX_DEGREE + 1
@@ -118,13 +141,14 @@ _W, WORK_SIZE = _offsets(
     MATS=7 * 16, P=3, A=3, TH=10, Q6=6, QQ=6,
     BLO=_NBRACKETS, BHI=_NBRACKETS, BSURE=_NBRACKETS, FOUND=REFINE_GRID + 2,
     BCOEF=_NBRACKETS * _NB, CAST=_NB, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP, NB=1,
-    SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES,
+    SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES, FAM=4 * _NFAMILIES, NFAM=1,
 )
 _MATS, _P, _A, _TH, _Q6, _QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"], _W["QQ"]
 _BLO, _BHI, _BSURE, _FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
 _BCOEF, _CAST, _ISO, _ROOTS = _W["BCOEF"], _W["CAST"], _W["ISO"], _W["ROOTS"]
 _NBK, _SCAN, _SUB = _W["NB"], _W["SCAN"], _W["SUB"]
 _NTH = 10  # the arm's cosines and sines, theta5, and O4 (see :func:`_fold_gap`)
+_FAM, _NFAM = _W["FAM"], _W["NFAM"]
 
 
 # the one angle wrap, to (-pi, pi], and the exact reduction under it (ik7r.geometry.rotations)
@@ -215,7 +239,8 @@ def _add(q, out, count, Td, K, mats):
     a solution in every joint, or within MERGE_WINDOW and joined to it by a segment that is
     exact all along (:func:`_joined`): where the FK is flat (a
     nearly singular arm and wrist at once) exact solutions come as clusters of shadows wider
-    than DUP_TOL, while two distinct solutions have an inexact pose between them."""
+    than DUP_TOL, while two distinct solutions have an inexact pose between them. A new
+    solution when ``out`` is full raises RuntimeError (never a silent drop)."""
     for i in range(6):
         q[i] = wrap(q[i])
     for k in range(count):
@@ -224,13 +249,17 @@ def _add(q, out, count, Td, K, mats):
             far = max(far, abs(wrap(out[k, i] - q[i])))
         if far <= DUP_TOL:
             return count
-        if far < MERGE_WINDOW and count < out.shape[0] and _joined(out[k], q, out[count], Td, K, mats):
-            return count
-    if count < out.shape[0]:
-        for i in range(6):
-            out[count, i] = q[i]
-        count += 1
-    return count
+        if far < MERGE_WINDOW:
+            # (scratch: the next free row, or when full the wrist's work matrix, free here)
+            mid = out[count] if count < out.shape[0] else mats[_WR].reshape(16)[:6]
+            if _joined(out[k], q, mid, Td, K, mats):
+                return count
+    if count == out.shape[0]:
+        raise RuntimeError("ik7r: more distinct solutions than the output holds (MAX_SOLUTIONS); "
+                           "none is dropped silently: please report the pose")
+    for i in range(6):
+        out[count, i] = q[i]
+    return count + 1
 
 
 @njit
@@ -363,6 +392,11 @@ def _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, fi
     qq = ws[_QQ:_QQ + 6]  # q completed with a wrist solution
     for i in range(3):
         q[i] = user_angle(i, _angle(th, i), K)
+    if K[L.DEVIATION] > 0.0 and t5 < STRAIGHT_SHOULDER:
+        window = STRAIGHT_SHOULDER if _near_shoulder(th, K) else STRAIGHT_DEVIATING
+        # (the bend of the arm's own target: a root clamped to the end of the range is not enough)
+        if t5 < window and theta5_of_bend(Q, K) < window:
+            count = _straight_family(q, Q, Td, K, out, count, ws, mats)
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
     if t5 < FOLD_WINDOW:
         # straight wrist: one member of the theta4 + theta7 family
@@ -725,7 +759,8 @@ def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
     t = (p[0] * a[0] + p[1] * a[1]) / axy2
     rx = p[0] - t * a[0]
     ry = p[1] - t * a[1]
-    if rx * rx + ry * ry > (SHOULDER_NEAR * K[L.SCALE]) ** 2:
+    near = SHOULDER_NEAR if K[L.DEVIATION] == 0.0 else SHOULDER_SCAN_DEVIATING
+    if rx * rx + ry * ry > (near * K[L.SCALE]) ** 2:
         return count
     d = t - K[L.D7]
     if not (0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]):
@@ -971,16 +1006,18 @@ def _roots(kind, p, a, K, Bm, bnorm, roots, ws):
         else:
             m = refine(kind, blo[k], bhi[k], p, a, K, found)
         for i in range(m):
-            if count < roots.shape[0]:
-                # u -> d; for a model that deviates from the idealised one a root just outside
-                # the range stays where it is (its arm exists there; theta5 is clamped to 0 or pi)
-                u = found[i]
-                if K[L.DEVIATION] == 0.0:
-                    u = min(1.0, max(_u_fold(K), u))
-                if abs(u) < 1e-12:
-                    continue  # the folded wrist of a 45 deg twist (d at infinity): see solve_all
-                roots[count] = K[L.KW] / u
-                count += 1
+            # u -> d; for a model that deviates from the idealised one a root just outside
+            # the range stays where it is (its arm exists there; theta5 is clamped to 0 or pi)
+            u = found[i]
+            if K[L.DEVIATION] == 0.0:
+                u = min(1.0, max(_u_fold(K), u))
+            if abs(u) < 1e-12:
+                continue  # the folded wrist of a 45 deg twist (d at infinity): see solve_all
+            if count == roots.shape[0]:
+                raise RuntimeError("ik7r: more candidate roots than ROOT_CAP; none is dropped "
+                                   "silently: please report the pose")
+            roots[count] = K[L.KW] / u
+            count += 1
     if K[L.DEVIATION] > 0.0:
         count = _near_misses(kind, lo, hi, p, a, K, roots, count)
     return count
@@ -1000,11 +1037,14 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
     for i in range(1, m):
         fa = abs(fs[i])
         if (fa <= abs(fs[i - 1]) and fa <= abs(fs[i + 1]) and fs[i - 1] * fs[i] > 0.0
-                and fs[i] * fs[i + 1] > 0.0 and fa < NEAR_RATIO * ms[i] and count < roots.shape[0]):
+                and fs[i] * fs[i + 1] > 0.0 and fa < NEAR_RATIO * ms[i]):
             u = _least_abs(kind, lo + (hi - lo) * (i - 1) / m, lo + (hi - lo) * (i + 1) / m, p, a, K)
             h = 0.5 * (hi - lo) / m
             for v in (u, u - h, u + h):  # the minimum and starts on either side of it
-                if abs(v) > 1e-12 and count < roots.shape[0]:
+                if abs(v) > 1e-12:
+                    if count == roots.shape[0]:
+                        raise RuntimeError("ik7r: more candidate roots than ROOT_CAP; none is "
+                                           "dropped silently: please report the pose")
                     roots[count] = K[L.KW] / v
                     count += 1
     return count
@@ -1095,6 +1135,7 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
     for i in range(3):
         a[i] /= na
     roots = ws[_ROOTS:_ROOTS + ROOT_CAP]
+    ws[_NFAM] = 0.0
     nr = _roots(0, p, a, K, Bm, bnorm, roots, ws)
     count = 0
     if nr < 0:
@@ -1143,6 +1184,8 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
         count = _scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
         folded = True
     count = _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+    if K[L.DEVIATION] > 0.0:
+        count = _partners(Td, K, out, count, mats)
     if folded:
         count = _merge_folded(out, count)
     return count
@@ -1169,3 +1212,317 @@ def _merge_folded(out, count):
                 out[keep, j] = out[s, j]
             keep += 1
     return keep
+
+
+@njit
+def _near_shoulder(th, K):
+    """Whether the arm of DH cosines and sines ``th`` (see :func:`_arm_from_psi`) places the
+    straight wrist's virtual centre within SHOULDER_DEVIATING of the robot's size from axis 1
+    (its distance in the arm plane, ``a1`` plus the reach of joints 2 and 3)."""
+    c2, c3, s2, s3 = th[1], th[2], th[4], th[5]
+    Ld = K[L.D4] + K[L.KW]
+    e3 = K[L.EPS3]
+    x2 = K[L.A2] + K[L.A3] * c3 + e3 * Ld * s3
+    y2 = K[L.A3] * s3 - e3 * Ld * c3
+    return abs(K[L.A1] + c2 * x2 - s2 * y2) < SHOULDER_DEVIATING * K[L.SCALE]
+
+
+@njit(allocates=True)
+def _straight_family(q, Q, Td, K, out, count, ws, mats):
+    """Every exact solution near the straight-wrist family of the arm ``q[:3]`` (user angles) on a
+    model that deviates from the idealised one. On the idealised model a straight wrist leaves
+    only ``s4 q4 + s7 q7`` defined (a circle of solutions, the split free); the deviation breaks
+    the circle into isolated solutions, spread over the whole turn of the split, with the arm
+    and q5 moved by about the deviation. With q4 fixed the five other joints are regular there,
+    so these solutions are the zeros of one function of q4 (:func:`_reduced_scan`), found by a
+    scan of the whole turn. ``Q``: the wrist target of the arm (its angle about z is the sum).
+    The arms already scanned for this pose are skipped."""
+    s4 = K[L.SIGN + 3]
+    s7 = K[L.SIGN + 6]
+    total = math.atan2(Q[1, 0], Q[0, 0]) - K[L.THETA_OFFSET4] - K[L.THETA_OFFSET7]
+    nf = int(ws[_NFAM])
+    for k in range(min(nf, _NFAMILIES)):
+        f = ws[_FAM + 4 * k:_FAM + 4 * k + 4]
+        far = abs(wrap(f[3] - total))
+        for i in range(3):
+            far = max(far, abs(wrap(f[i] - q[i])))
+        if far < 1e-2:
+            return count
+    if nf < _NFAMILIES:
+        f = ws[_FAM + 4 * nf:_FAM + 4 * nf + 4]
+        for i in range(3):
+            f[i] = q[i]
+        f[3] = total
+        ws[_NFAM] = nf + 1
+    start = np.empty(6)
+    for i in range(3):
+        start[i] = q[i]
+    start[3] = -math.pi
+    start[4] = user_angle(4, 0.0, K)
+    start[5] = s7 * (total + s4 * math.pi)
+    return _reduced_scan(start, 3, -math.pi, math.pi, REDUCED_GRID, Td, K, out, count, mats)
+
+
+@njit
+def _det6(A):
+    """Determinant of ``A`` (6, 6; overwritten), by elimination with partial pivoting."""
+    det = 1.0
+    for k in range(6):
+        p = k
+        for i in range(k + 1, 6):
+            if abs(A[i, k]) > abs(A[p, k]):
+                p = i
+        if A[p, k] == 0.0:
+            return 0.0
+        if p != k:
+            for c in range(6):
+                A[k, c], A[p, c] = A[p, c], A[k, c]
+            det = -det
+        det *= A[k, k]
+        for i in range(k + 1, 6):
+            f = A[i, k] / A[k, k]
+            for c in range(k, 6):
+                A[i, c] -= f * A[k, c]
+    return det
+
+
+@njit
+def _reduced_at(q, j, v, Td, K, T, J, A, e, g, dq, ZO):
+    """The reduced residual at ``q[j] = v``: Gauss-Newton on the five other joints of ``q`` (from
+    their values in ``q``, updated in place) for the least-squares pose error, then
+    ``det [J_other | e]`` (position rows over the robot's size): a signed scalar, continuous in
+    ``v``, zero exactly where the least-squares point is a solution (``e`` is orthogonal to the
+    five columns there, so the determinant is ``e`` along their normal). Returns (r, |e|, ok);
+    ``T`` is left at the forward kinematics of ``q``."""
+    q[j] = v
+    w = 1.0 / K[L.SCALE]
+    ok = True
+    done = False
+    for it in range(REDUCED_ITERS + 1):
+        fk_jacobian(q, K, T, J, ZO)
+        pose_error(T, Td, e, ZO[:3, :3])
+        for r in range(3):
+            e[r] *= w
+            for c in range(6):
+                J[r, c] *= w
+        if it == REDUCED_ITERS or done:
+            break
+        for a_ in range(6):
+            g[a_] = 0.0
+            for b_ in range(6):
+                A[a_, b_] = 0.0
+            if a_ == j:
+                A[a_, a_] = 1.0
+                continue
+            for r in range(6):
+                g[a_] += J[r, a_] * e[r]
+            for b_ in range(6):
+                if b_ != j:
+                    s = 0.0
+                    for r in range(6):
+                        s += J[r, a_] * J[r, b_]
+                    A[a_, b_] = s
+        if solve6(A, g, dq) < 1e-15:
+            ok = False
+            break
+        big = 0.0
+        for i in range(6):
+            if i != j:
+                big = max(big, abs(dq[i]))
+        f = 1.0 if big <= 0.1 else 0.1 / big
+        for i in range(6):
+            if i != j:
+                q[i] += f * dq[i]
+        done = big < 1e-10  # (Gauss-Newton converges quadratically: one step more is rounding)
+    norm = 0.0
+    for r in range(6):
+        norm += e[r] * e[r]
+        for c in range(6):
+            A[r, c] = e[r] if c == j else J[r, c]
+    if not (norm < 1e300):
+        return 0.0, math.inf, False
+    return _det6(A), math.sqrt(norm), ok
+
+
+@njit
+def _dips_to_zero(r0, r1, r2):
+    """Whether the parabola through three equally spaced values of one sign (``r1`` the least in
+    magnitude) comes down to half of ``r1`` or beyond zero between them: a dip that may hide a
+    tangency or two roots, not a shallow minimum."""
+    c = 0.5 * (r0 + r2) - r1
+    b = 0.5 * (r2 - r0)
+    if c == 0.0 or (c > 0.0) != (r1 > 0.0):
+        return False
+    t = -b / (2.0 * c)
+    if abs(t) > 1.0:
+        return False
+    bottom = r1 + b * t + c * t * t
+    return (bottom < 0.5 * r1) if r1 > 0.0 else (bottom > 0.5 * r1)  # (or beyond zero)
+
+
+@njit
+def _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO):
+    """Refine the root of the reduced residual bracketed by [va, vb] (``ra``, ``rb`` of opposite
+    signs) by Illinois, each point Gauss-Newton from the one before (``qt``, left at the root)."""
+    side = 0
+    for _ in range(40):
+        v = (va * rb - vb * ra) / (rb - ra)
+        if not (min(va, vb) < v < max(va, vb)):
+            v = 0.5 * (va + vb)
+        r, _, ok = _reduced_at(qt, j, v, Td, K, T, J, A, e, g, dq, ZO)
+        if not ok:
+            return
+        dp, dr = residual(T, Td)
+        if r == 0.0 or (dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]):
+            return
+        if (r > 0.0) == (rb > 0.0):
+            vb, rb = v, r
+            if side == -1:
+                ra *= 0.5
+            side = -1
+        else:
+            va, ra = v, r
+            if side == 1:
+                rb *= 0.5
+            side = 1
+        if abs(vb - va) <= 1e-11:
+            return  # (the polish of _accept takes it to the last bits)
+
+
+@njit(allocates=True)
+def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
+    """Every exact solution on the branch of the reduced residual (:func:`_reduced_at`) with
+    joint ``j`` over [v0, v1], tracked from ``start`` on a grid of ``m`` cells (each point
+    Gauss-Newton from the extrapolation of the two before it): sign changes refined by Illinois
+    in ``v``, dips toward zero (tangencies, two roots in one cell) by golden section on the
+    signed residual and split at its bottom; each candidate is verified (polished) on the exact
+    forward kinematics and added."""
+    T = np.empty((4, 4))
+    J = np.empty((6, 6))
+    A = np.empty((6, 6))
+    ZO = np.empty((7, 6))
+    e = np.empty(6)
+    g = np.empty(6)
+    dq = np.empty(6)
+    qs = np.empty((m + 1, 6))
+    rs = np.empty(m + 1)
+    es = np.empty(m + 1)
+    qt = np.empty(6)
+    for k in range(m + 1):
+        for i in range(6):
+            if k == 0:
+                qt[i] = start[i]
+            elif k == 1:
+                qt[i] = qs[0, i]
+            else:
+                qt[i] = 2.0 * qs[k - 1, i] - qs[k - 2, i]
+        r, res, ok = _reduced_at(qt, j, v0 + (v1 - v0) * k / m, Td, K, T, J, A, e, g, dq, ZO)
+        for i in range(6):
+            qs[k, i] = qt[i]
+        rs[k] = r if ok else np.nan
+        es[k] = res if ok else np.inf
+        if ok:
+            dp, dr = residual(T, Td)
+            if dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]:
+                count = _add(qt.copy(), out, count, Td, K, mats)
+    for k in range(m):
+        va = v0 + (v1 - v0) * k / m
+        vb = v0 + (v1 - v0) * (k + 1) / m
+        ra = rs[k]
+        rb = rs[k + 1]
+        if not (math.isfinite(ra) and math.isfinite(rb)):
+            continue
+        if ra * rb < 0.0:
+            for i in range(6):
+                qt[i] = qs[k, i]
+            _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO)
+            count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
+        elif (0 < k and es[k] <= es[k - 1] and es[k] <= es[k + 1] and math.isfinite(rs[k - 1])
+              and rs[k - 1] * ra > 0.0 and _dips_to_zero(rs[k - 1], ra, rb)):
+            # a dip of |e| without a sign change: a tangency, or two roots within one cell; where
+            # the bottom has the other sign, both roots are refined
+            lo = v0 + (v1 - v0) * (k - 1) / m
+            hi = vb
+            gr = 0.5 * (math.sqrt(5.0) - 1.0)
+            for i in range(6):
+                qt[i] = qs[k, i]
+            sgn = 1.0 if ra > 0.0 else -1.0
+            for _ in range(24):  # the bottom of the signed residual (|e| would stop at a root)
+                x1 = hi - gr * (hi - lo)
+                x2 = lo + gr * (hi - lo)
+                f1, _, _ = _reduced_at(qt, j, x1, Td, K, T, J, A, e, g, dq, ZO)
+                f2, _, _ = _reduced_at(qt, j, x2, Td, K, T, J, A, e, g, dq, ZO)
+                if sgn * f1 < sgn * f2:
+                    hi = x2
+                else:
+                    lo = x1
+            vm = 0.5 * (lo + hi)
+            rm, _, okm = _reduced_at(qt, j, vm, Td, K, T, J, A, e, g, dq, ZO)
+            qm = qt.copy()
+            count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
+            if okm and rm * ra < 0.0:
+                v_lo = v0 + (v1 - v0) * (k - 1) / m
+                for vx, rx in ((v_lo, rs[k - 1]), (vb, rb)):
+                    for i in range(6):
+                        qt[i] = qm[i]
+                    _reduced_root(qt, j, min(vx, vm), max(vx, vm), rx if vx < vm else rm,
+                                  rm if vx < vm else rx, Td, K, T, J, A, e, g, dq, ZO)
+                    count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
+    return count
+
+
+@njit(allocates=True)
+def _partners(Td, K, out, count, mats):
+    """Solutions of a deviating model next to a nearly singular one. Where the exact model has
+    two solutions close together whose idealised counterparts are complex (or merged), the
+    polish of every idealised candidate can land on one of them. At a solution ``x`` with the
+    Jacobian's smallest singular value ``sigma`` (left and right vectors ``u``, ``v``) the pose
+    error along ``x + t v`` is ``sigma t + c t^2 / 2`` on ``u`` (``c`` by central differences):
+    its second zero ``t = -2 sigma / c`` is the partner's prediction, polished on the exact model
+    (a check, not a certificate: see docs/guide/edges.md)."""
+    T = np.empty((4, 4))
+    J = np.empty((6, 6))
+    A = np.empty((6, 6))
+    ZO = np.empty((7, 6))
+    ep = np.empty(6)
+    qt = np.empty(6)
+    w = 1.0 / K[L.SCALE]
+    n0 = count
+    for s in range(n0):
+        if abs(wrap(K[L.SIGN + 4] * out[s, 4] + K[L.DH + 19])) < STRAIGHT_DEVIATING:
+            continue  # a straight wrist's neighbours: the whole turn is scanned (_straight_family)
+        x = out[s].copy()
+        fk_jacobian(x, K, T, J, ZO)
+        for r in range(3):
+            for c in range(6):
+                J[r, c] *= w
+        for r in range(6):
+            for c in range(6):
+                A[r, c] = J[r, c]
+            ep[r] = 0.0
+        if solve6(A, ep, qt) > PARTNER_PIVOT:
+            continue  # clearly regular (the least pivot bounds the singular values roughly)
+        U, S, Vt = np.linalg.svd(J)
+        if not S[5] < PARTNER_SIGMA * S[0]:
+            continue
+        h = 1e-3
+        curv = 0.0
+        for sg in (1.0, -1.0):
+            for i in range(6):
+                qt[i] = x[i] + sg * h * Vt[5, i]
+            fk_user(qt, K, T)
+            pose_error(T, Td, ep, ZO[:3, :3])
+            for r in range(3):
+                ep[r] *= w
+            for r in range(6):
+                curv -= U[r, 5] * ep[r]  # F = -pose_error
+        curv /= h * h
+        if curv == 0.0:
+            continue
+        t = -2.0 * S[5] / curv
+        if abs(t) > PARTNER_REACH:
+            continue
+        for i in range(6):
+            qt[i] = x[i] + t * Vt[5, i]
+        count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
+    return count
