@@ -598,13 +598,15 @@ def among(robot, sols, q, T, tol=1e-6):
 
 
 def exact(robot, sols, T, margin=1e-12):
-    """Position errors (M,) and rotation errors (M,) of ``sols`` on this module's forward kinematics,
+    """Position errors (M,) and rotation errors (M,) of ``sols`` (M, 6) against ``T`` (one pose,
+    or one per solution) on this module's forward kinematics,
     and whether each meets the robot's tolerance min(1e-9, 1e-12 size) (plus ``margin`` for two
     products that round differently) and 1e-12 in rotation plus 1e-15."""
     ch = Chain(robot)
     F = ch.fk(np.asarray(sols).reshape(-1, 6))
-    dp = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1)
-    dr = np.abs(F[:, :3, :3] - T[:3, :3]).max(axis=(1, 2))
+    T = np.asarray(T)  # one pose (4, 4), or one per solution (M, 4, 4)
+    dp = np.linalg.norm(F[:, :3, 3] - T[..., :3, 3], axis=-1)
+    dr = np.abs(F[:, :3, :3] - T[..., :3, :3]).max(axis=(1, 2))
     return dp, dr, (dp <= ch.tol + margin) & (dr <= 1e-12 + 1e-15)
 
 
