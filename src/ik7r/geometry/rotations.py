@@ -224,3 +224,20 @@ def nearest_rotation(R: ArrayLike) -> np.ndarray:
     D = np.ones(U.shape[:-1])
     D[..., -1] = np.sign(np.linalg.det(U @ Vt))
     return (U * D[..., None, :]) @ Vt
+
+
+def relative_rotvec(R_a: ArrayLike, R_b: ArrayLike) -> np.ndarray:
+    """Rotation vectors (..., 3) of ``R_a^T R_b``: the turn from each frame ``R_a`` (..., 3, 3)
+    to ``R_b`` in ``R_a``'s own axes, its norm the angle between them (rad).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from ik7r.geometry import relative_rotvec, rot_z
+    >>> relative_rotvec(rot_z(0.25), rot_z(1.0)).round(12)
+    array([0.  , 0.  , 0.75])
+    """
+    from scipy.spatial.transform import Rotation
+
+    rel = np.einsum("...ji,...jk->...ik", np.asarray(R_a, dtype=float), np.asarray(R_b, dtype=float))
+    return Rotation.from_matrix(rel.reshape(-1, 3, 3)).as_rotvec().reshape(rel.shape[:-2] + (3,))

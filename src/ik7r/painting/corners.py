@@ -17,7 +17,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .paths import Path, _rotvecs
+from ..geometry.rotations import relative_rotvec
+from .paths import Path
 
 if TYPE_CHECKING:
     from .._typing import ArrayLike
@@ -31,7 +32,8 @@ DEFAULT_CORNER_ANGLE = math.radians(2.0)
 def _tangents(path: Path, rotation_radius: float) -> np.ndarray:
     """Unit tangents of the segments in (position, rotation_radius x rotation vector) (N-1, 6)."""
     dp = np.diff(path.positions, axis=0)
-    rv = np.einsum("nij,nj->ni", path.rotations[:-1], _rotvecs(path.rotations[:-1], path.rotations[1:]))
+    R = path.rotations
+    rv = np.einsum("nij,nj->ni", R[:-1], relative_rotvec(R[:-1], R[1:]))
     d = np.concatenate([dp, rotation_radius * rv], axis=1)
     return d / np.linalg.norm(d, axis=1, keepdims=True)
 
@@ -133,10 +135,10 @@ def blend_corners(path: Path, zone: float, angle: float = DEFAULT_CORNER_ANGLE, 
     for p in pieces:
         if p[0] == "line":
             L = float(np.linalg.norm(p[2] - p[1]))
-            th = float(np.linalg.norm(_rotvecs(p[3][None], p[4][None])[0]))
+            th = float(np.linalg.norm(relative_rotvec(p[3][None], p[4][None])[0]))
         else:
             L = p[4] * p[5]
-            th = float(np.linalg.norm(_rotvecs(p[6][None], p[7][None])[0]))
+            th = float(np.linalg.norm(relative_rotvec(p[6][None], p[7][None])[0]))
         lengths.append(math.hypot(L, rotation_radius * th))
         rots.append(Rotation.from_matrix(np.stack([p[3], p[4]] if p[0] == "line" else [p[6], p[7]])))
     u0 = np.concatenate([[0.0], np.cumsum(lengths)])

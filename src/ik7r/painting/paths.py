@@ -29,7 +29,7 @@ from pathlib import Path as FilePath
 import numpy as np
 
 from ..geometry.checks import check_transforms
-from ..geometry.rotations import quat_to_matrix, rpy_to_matrix, transform
+from ..geometry.rotations import quat_to_matrix, relative_rotvec, rpy_to_matrix, transform
 from ..limits import MAX_PATH_FILE_BYTES, MAX_PATH_SAMPLES, check_work
 from ..textio import decode_text, read_bytes_limited
 
@@ -184,21 +184,13 @@ class Path:
         return _interpolate_samples(self.positions, self.rotations, self.u, x)
 
 
-def _rotvecs(R_a: np.ndarray, R_b: np.ndarray) -> np.ndarray:
-    """Rotation vectors of ``R_a^T R_b`` ``(..., 3)``."""
-    from scipy.spatial.transform import Rotation
-
-    rel = np.einsum("...ji,...jk->...ik", R_a, R_b)
-    return Rotation.from_matrix(rel.reshape(-1, 3, 3)).as_rotvec().reshape(rel.shape[:-2] + (3,))
-
-
 def _interpolate_samples(P, R, u_samples, u):
     from scipy.spatial.transform import Rotation
 
     i = np.clip(np.searchsorted(u_samples, u, side="right") - 1, 0, len(u_samples) - 2)
     f = (u - u_samples[i]) / (u_samples[i + 1] - u_samples[i])
     pos = P[i] + f[:, None] * (P[i + 1] - P[i])
-    rv = _rotvecs(R[i], R[i + 1]) * f[:, None]
+    rv = relative_rotvec(R[i], R[i + 1]) * f[:, None]
     rot = R[i] @ Rotation.from_rotvec(rv).as_matrix().reshape(-1, 3, 3)
     return pos, rot
 
@@ -219,7 +211,7 @@ def path_from_poses(T_base_tool: ArrayLike, *, rotation_radius: float = 100.0, n
     if len(T) < 2:
         raise ValueError(f"a path needs at least 2 poses; got {len(T)}")
     dp = np.linalg.norm(np.diff(P, axis=0), axis=1)
-    dth = np.linalg.norm(_rotvecs(R[:-1], R[1:]), axis=1)
+    dth = np.linalg.norm(relative_rotvec(R[:-1], R[1:]), axis=1)
     u = np.concatenate([[0.0], np.cumsum(np.hypot(dp, rotation_radius * dth))])
     return Path(P, R, u, None, name)
 
