@@ -114,3 +114,24 @@ def test_a_20000_revolute_chain_is_refused_quickly_as_out_of_the_family():
                      for k in range(20_000))
     with pytest.raises(ik7r.FamilyError, match="20000 revolute joints"):
         robot_from_urdf_string(f'<robot name="long">{links}{joints}</robot>', source="long.urdf")
+
+
+def test_a_fitting_tolerance_below_the_floor_is_refused(tmp_path):
+    """``--tolerance 1e-13`` (mm) asked the joint-spline fit for about 2^10 times the IK samples
+    of the default (minutes of work, found by the fuzz test); it is refused with the floor named,
+    in the API and on the command line, and leaves no output."""
+    from ik7r.painting import paint_raster
+    from ik7r.painting.interpolate import MIN_TOLERANCE_MM
+
+    robot = ik7r.load_robot()
+    with pytest.raises(ValueError, match=r"tolerance must be at least 0\.0001 mm"):
+        paint_raster(robot, duration=10.0, size=(100.0, 100.0), spacing=50.0, tolerance=1e-13)
+    code, out, err = run_cli("paint", "raster", "--tolerance", "1e-13", "--no-plots", "--size", "100",
+                             "100", "--spacing", "50", "--out", tmp_path / "o")
+    assert_well_behaved(code, err)
+    assert code in (1, 2) and len(err.splitlines()) == 1 and "at least 0.0001 mm" in err, err
+    assert not (tmp_path / "o").exists()
+    # the floor itself is accepted (the paper robot's raster meets it)
+    result = paint_raster(robot, duration=10.0, size=(100.0, 100.0), spacing=50.0,
+                          tolerance=MIN_TOLERANCE_MM)
+    assert result.trajectory.max_deviation <= MIN_TOLERANCE_MM

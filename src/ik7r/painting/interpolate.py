@@ -50,6 +50,11 @@ DEFAULT_RAMP = 1.0
 DEFAULT_RATE = 100.0
 #: Default deviation tolerance, in mm (converted to the robot's length unit).
 DEFAULT_TOLERANCE_MM = 0.01
+#: Smallest deviation tolerance accepted, in mm: 0.1 um, a hundred times below the default and far
+#: below any robot's repeatability. Each factor of 64 below the default doubles the joint samples
+#: of a quintic fit (its error falls as the sixth power of the spacing), all solved by IK, so a
+#: tolerance such as 1e-13 mm would ask for minutes of work that no robot can use.
+MIN_TOLERANCE_MM = 1e-4
 _CHECK_FRACTIONS = np.arange(1, 8) / 8.0
 
 

@@ -45,6 +45,7 @@ from .events import (
 from .interpolate import (
     DEFAULT_RAMP,
     DEFAULT_RATE,
+    MIN_TOLERANCE_MM,
     JointPath,
     ProfileTiming,
     Timing,
@@ -177,7 +178,8 @@ def time_path(robot, solution: PathSolution, *, speed: float | None = None,
     kind : {"quintic", "cubic"}
         Joint spline in the path parameter.
     tolerance : float, optional
-        Largest deviation of the tool from the path (length unit; default 0.01 mm).
+        Largest deviation of the tool from the path (length unit; default 0.01 mm, at least
+        ``MIN_TOLERANCE_MM`` = 1e-4 mm).
     rate : float
         Output rows per second (Hz); the peak instants are rows too.
     max_rounds, max_step
@@ -219,6 +221,11 @@ def time_path(robot, solution: PathSolution, *, speed: float | None = None,
     tol = default_tolerance(robot.unit) if tolerance is None else float(tolerance)
     if not (math.isfinite(tol) and tol > 0):
         raise ValueError(f"tolerance must be a positive length; got {tolerance!r}")
+    tol_min = MIN_TOLERANCE_MM * mm_in(robot.unit)
+    if tol < tol_min:
+        raise ValueError(f"tolerance must be at least {tol_min:g} {robot.unit} (0.1 um; the joint "
+                         f"samples double for every factor of 64 below the default 0.01 mm); "
+                         f"got {tolerance!r}")
     if speed is not None and (robot.velocity is None or robot.acceleration is None):
         raise ValueError(f"a commanded speed needs the joint velocity and acceleration limits; robot "
                          f"{robot.name} has {'none' if robot.velocity is None else 'no acceleration limits'}"

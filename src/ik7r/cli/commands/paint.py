@@ -54,7 +54,8 @@ def _common(p) -> None:
     g.add_argument("--spline", choices=("quintic", "cubic"), default="quintic",
                    help="joint-space spline (default quintic)")
     g.add_argument("--tolerance", type=finite_float, default=None, metavar="D",
-                   help="largest deviation of the tool from the path (length unit; default 0.01 mm)")
+                   help="largest deviation of the tool from the path (length unit; default 0.01 mm, "
+                        "at least 1e-4 mm)")
     g.add_argument("--rate", type=finite_float, default=100.0, metavar="HZ",
                    help="rows per second in trajectory.csv (default 100)")
     g.add_argument("--rescale", action="store_true",
