@@ -10,27 +10,13 @@ import math
 
 import numpy as np
 import pytest
-from helpers import wrap
+from helpers import source_distance
 
 import ik7r
 from ik7r.robot import Robot
 
 #: A source counts as found when an answer is this close (rad, every compared joint).
 SOURCE_TOL = 1e-6
-
-
-def source_distance(robot, sols, q):
-    """Largest joint difference (rad) from ``q`` to its nearest answer; with |q5| < 1e-3 the
-    answers are compared in (q1, q2, q3, q5, s4 q4 + s7 q7)."""
-    if len(sols) == 0:
-        return np.inf
-    full = np.abs(wrap(sols - q)).max(axis=1).min()
-    if abs(wrap(q[4])) >= 1e-3:
-        return full
-    s4, s7 = robot.joint_sign[3], robot.joint_sign[6]
-    rest = np.abs(wrap(sols[:, [0, 1, 2, 4]] - q[[0, 1, 2, 4]])).max(axis=1)
-    total = np.abs(wrap(s4 * sols[:, 3] + s7 * sols[:, 5] - s4 * q[3] - s7 * q[5]))
-    return min(full, np.maximum(rest, total).min())
 
 
 def misses(robot, Q):

@@ -10,24 +10,9 @@ import math
 
 import numpy as np
 import pytest
-from helpers import dh_product, pose_errors, wrap
+from helpers import dh_product, pose_errors, source_distance, wrap
 
 import ik7r
-
-
-def source_distance(robot, sols, q):
-    """Largest joint difference (rad, wrapped) from ``q`` to its nearest answer; at a straight
-    wrist (|q5| < 1e-3) q4 and q7 are compared through the defined sum s4 q4 + s7 q7 only."""
-    if len(sols) == 0:
-        return np.inf
-    full = np.abs(wrap(sols - q)).max(axis=1).min()
-    if abs(wrap(q[4])) >= 1e-3:
-        return full
-    s4, s7 = robot.joint_sign[3], robot.joint_sign[6]
-    rest = np.abs(wrap(sols[:, [0, 1, 2, 4]] - q[[0, 1, 2, 4]])).max(axis=1)
-    total = np.abs(wrap(s4 * sols[:, 3] + s7 * sols[:, 5] - s4 * q[3] - s7 * q[5]))
-    return min(full, np.maximum(rest, total).min())
-
 
 #: Another implementation of the FK rounds differently: solutions the kernel accepted at its
 #: tolerance may read up to this much (mm) beyond it here.
