@@ -32,8 +32,15 @@ demo: $(COMPILED)
 test: $(COMPILED)
 	$(BIN)/ruff check src tests $(wildcard benchmarks) $(wildcard examples) docs/conf.py docs/_ext
 	$(BIN)/python -m mypy
-	$(BIN)/python -m pytest
-	$(BIN)/python -m sphinx -b html -W --keep-going -q docs docs/_build/html
+	@# the site is built on the second core while pytest runs (pytest is mostly one thread); its
+	@# output is printed after, and either failing fails the target
+	@mkdir -p docs/_build; \
+	$(BIN)/python -m sphinx -b html -W --keep-going -q docs docs/_build/html > docs/_build/sphinx.log 2>&1 & \
+	sphinx=$$!; \
+	$(BIN)/python -m pytest; tests=$$?; \
+	wait $$sphinx; site=$$?; \
+	echo "sphinx -b html -W (built beside pytest):"; cat docs/_build/sphinx.log; \
+	test $$tests -eq 0 -a $$site -eq 0
 
 # the documentation site, offline, into docs/_build/html (the gallery's figures are drawn here)
 docs: $(COMPILED)
