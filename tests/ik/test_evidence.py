@@ -134,17 +134,22 @@ _MEMBER = dict(seed=st.integers(0, 2**32 - 1), kind=st.sampled_from(KINDS + ("ra
                lateral=st.booleans())
 
 
+def _member_sources_missed(name, seed, kind, lateral, **member):
+    """Two sources on a random family member (``member``: :func:`family_member`'s options), at
+    random joints or on the singular set ``kind``: those not among their pose's answers."""
+    rng = np.random.default_rng(seed)
+    lateral = lateral and "shoulder" not in kind
+    robot = Robot(name=name, dh=family_member(rng, lateral=lateral, **member))
+    Q = rng.uniform(-np.pi, np.pi, (2, 6)) if kind == "random" else singular_joints(robot, rng, kind, 2)
+    return [q.tolist() for q in Q if not _check_round_trip(robot, q)]
+
+
 @settings(max_examples=30, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
 @given(beta=st.one_of(st.just(None), st.just(45.0)), **_MEMBER)
 def test_family_members_round_trip(seed, kind, lateral, beta):
     """Exact family members (twists (-beta, 2 beta, -beta), beta in [15, 45] deg or 45 deg, any
     offsets), joints at random or on a singular set: two sources each."""
-    rng = np.random.default_rng(seed)
-    lateral = lateral and "shoulder" not in kind
-    robot = Robot(name="member", dh=family_member(rng, beta_deg=beta, lateral=lateral))
-    Q = rng.uniform(-np.pi, np.pi, (2, 6)) if kind == "random" else singular_joints(robot, rng, kind, 2)
-    missed = [q.tolist() for q in Q if not _check_round_trip(robot, q)]
-    assert missed == []
+    assert _member_sources_missed("member", seed, kind, lateral, beta_deg=beta) == []
 
 
 @settings(max_examples=30, deadline=None, derandomize=True, suppress_health_check=[HealthCheck.too_slow])
@@ -153,12 +158,7 @@ def test_rounded_members_round_trip(seed, kind, lateral):
     """Family members rounded like a published datasheet (lengths to 1 mm, angles to 0.01 deg:
     the wrist deviates from the mirror by up to 0.01 deg), joints at random or on a singular set
     (of the unrounded geometry): two sources each."""
-    rng = np.random.default_rng(seed)
-    lateral = lateral and "shoulder" not in kind
-    robot = Robot(name="rounded", dh=family_member(rng, lateral=lateral, rounded=True))
-    Q = rng.uniform(-np.pi, np.pi, (2, 6)) if kind == "random" else singular_joints(robot, rng, kind, 2)
-    missed = [q.tolist() for q in Q if not _check_round_trip(robot, q)]
-    assert missed == []
+    assert _member_sources_missed("rounded", seed, kind, lateral, rounded=True) == []
 
 
 # ---------------------------------------------------------------- 100,000 IRB 5400 poses
