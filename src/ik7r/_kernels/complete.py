@@ -72,6 +72,13 @@ FOLD_WINDOW = 1e-4
 #: Two exact solutions closer than this (rad, every joint) are one when the segment between
 #: them is exact too (see :func:`_add`).
 MERGE_WINDOW = 1e-2
+#: A candidate of the idealised model whose Jacobian is singular is polished by damped steps
+#: (:func:`ik7r._kernels.fk.polish`) when no solution found lies within this (rad, every joint):
+#: a singular arm and wrist at once (the shoulder set with a nearly straight wrist; axis 7 on
+#: axis 1) make clusters of exact solutions and continua whose members Newton cannot polish.
+#: Closer to a solution the candidate is a shadow of it (where the FK is that flat, the poses
+#: within about 1e-3 rad of an exact solution are within the tolerance too).
+SINGULAR_ALONE = 1e-3
 
 #: Grid of the theta5 scan of an undecided bracket (see :func:`_scan_theta5`), and how close to
 #: zero (rad) a local minimum of its bend gap must come to be a candidate (exact, deviating).
@@ -247,7 +254,7 @@ def _add(q, out, count, Td, K, mats):
         far = 0.0
         for i in range(6):
             far = max(far, abs(wrap(out[k, i] - q[i])))
-        if far <= DUP_TOL:
+        if far <= DUP_TOL or _same_straight(out[k], q, K):
             return count
         if far < MERGE_WINDOW:
             # (scratch: the next free row, or when full the wrist's work matrix, free here)
@@ -260,6 +267,24 @@ def _add(q, out, count, Td, K, mats):
     for i in range(6):
         out[count, i] = q[i]
     return count + 1
+
+
+@njit
+def _same_straight(q0, q1, K):
+    """Whether ``q0`` and ``q1`` are one straight-wrist solution of the idealised model: both
+    with theta5 within 1e-9 of 0, the arm within DUP_TOL and the same ``s4 q4 + s7 q7`` (the
+    only wrist angle defined there; the split is free)."""
+    if K[L.DEVIATION] != 0.0:
+        return False
+    for q in (q0, q1):
+        if abs(wrap(K[L.SIGN + 4] * q[4] + K[L.DH + 19])) > 1e-9:
+            return False
+    for i in range(3):
+        if abs(wrap(q0[i] - q1[i])) > DUP_TOL:
+            return False
+    s4 = K[L.SIGN + 3]
+    s7 = K[L.SIGN + 6]
+    return abs(wrap(s4 * (q0[3] - q1[3]) + s7 * (q0[5] - q1[5]))) <= DUP_TOL
 
 
 @njit
@@ -300,25 +325,26 @@ def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
                 polish(q, Td, K[L.HOMOTOPY + k * L.BASE_SIZE:L.HOMOTOPY + (k + 1) * L.BASE_SIZE], 4)
             if not polish(q, Td, K, 30):
                 return count, False
-        elif _known(q, out, count):
+        elif _known(q, out, count, DUP_TOL):
             return count, True  # the solution it would polish to is there (see _known)
-        elif not polish(q, Td, K, 8):
+        elif not polish(q, Td, K, 8, not snap and not _known(q, out, count, SINGULAR_ALONE)):
             return count, False
     return _add(q, out, count, Td, K, mats), True
 
 
 @njit
-def _known(q, out, count):
-    """Whether the candidate ``q`` is within DUP_TOL (every joint) of a solution in
-    ``out[:count]``: it is that solution (two solutions that close are one), so polishing it,
-    which on the flat forward kinematics of a singular arm or wrist takes all of Newton's
-    steps, would only find it again. (Not for models that deviate from the idealised one,
-    whose candidates are followed to the exact model one by one.)"""
+def _known(q, out, count, radius):
+    """Whether the candidate ``q`` is within ``radius`` (every joint) of a solution in
+    ``out[:count]``. With DUP_TOL: it is that solution (two solutions that close are one), so
+    polishing it, which on the flat forward kinematics of a singular arm or wrist takes all of
+    Newton's steps, would only find it again. (Not for models that deviate from the idealised
+    one, whose candidates are followed to the exact model one by one.) With SINGULAR_ALONE:
+    see :func:`_accept`."""
     for k in range(count):
         far = 0.0
         for i in range(6):
             far = max(far, abs(wrap(out[k, i] - q[i])))
-        if far <= DUP_TOL:
+        if far <= radius:
             return True
     return False
 
@@ -972,7 +998,12 @@ def _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count
         return _fold_candidate(t, p, a, 0.5 * front, elbow, R07, Td, K, hint, has_hint, out, count,
                                filt, ws, mats)
     th = ws[_TH:_TH + _NTH]
-    _, ok = _gap(t, p, a, front, elbow, K, th)  # the arm of the root, into th; theta5 th[6]
+    if front == 0.0:
+        _, ok = _shoulder_gap(t, p, a, elbow, K, th)  # the arm of the root, into th; theta5 th[6]
+    else:
+        # (theta1 from the seed where the virtual centre is on axis 1: the gap does not depend
+        # on it when axis 7 is on axis 1 too, where the pose leaves q1 free)
+        _, ok = _bend_gap(t, p, a, front, elbow, K, th, K[L.SIGN] * hint[0] + K[L.THETA_OFFSET1])
     if ok:
         t5 = th[6]
         count = _wrist_and_accept(th, t5, math.cos(t5), math.sin(t5), R07, Td, K, hint, has_hint,

@@ -292,18 +292,59 @@ def solve6(A, b, x):
 
 
 @njit(allocates=True)
-def polish(q, Td, K, max_iter):
+def polish(q, Td, K, max_iter, damped=False):
     """Newton-Raphson on the full forward kinematics from ``q`` (modified in place).
 
     Returns True when the residual is within the robot's tolerances (``POS_TOL`` in the
-    length unit, ``ROT_TOL`` in rad). Never claims success it did not verify.
+    length unit, ``ROT_TOL`` in rad). Never claims success it did not verify. ``damped``:
+    where the Jacobian is singular take a damped least-squares step (:func:`_damped_step`)
+    instead of giving up.
     """
     return polish_into(q, Td, K, max_iter, np.empty((4, 4)), np.empty((6, 6)), np.empty(6), np.empty(6),
-                       np.empty((7, 6)))
+                       np.empty((7, 6)), damped)
+
+
+#: Damping of :func:`_damped_step`, relative to the mean squared singular value of the
+#: weighted Jacobian: directions whose singular value is below about 1e-8 of the others' stay put.
+POLISH_DAMPING = 1e-16
 
 
 @njit
-def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO):
+def _damped_step(q, Td, K, T, J, e, dq, ZO):
+    """The step ``dq`` of :func:`polish_into` where the Jacobian at ``q`` is singular (a singular
+    arm and wrist at once: the shoulder singular set with a nearly straight wrist, or axis 7 on
+    axis 1, where the pose leaves joints free): damped least squares ``(Jw^T Jw + lam I) dq =
+    Jw^T ew`` with the position rows over the robot's size. It moves least along the free or
+    nearly free directions (a joint the pose leaves free keeps its value, which came from the
+    seed). Recomputes ``J`` and ``e`` (:func:`solve6` destroyed them); ``ZO`` holds the normal
+    equations. Returns False when even they are singular."""
+    fk_jacobian(q, K, T, J, ZO)
+    pose_error(T, Td, e, ZO[:3, :3])
+    w = 1.0 / K[L.SCALE] if K[L.SCALE] > 0.0 else 1.0
+    for r in range(3):
+        e[r] *= w
+        for c in range(6):
+            J[r, c] *= w
+    tr = 0.0
+    for i in range(6):
+        g = 0.0
+        for r in range(6):
+            g += J[r, i] * e[r]
+        ZO[6, i] = g
+        for j in range(6):
+            s = 0.0
+            for r in range(6):
+                s += J[r, i] * J[r, j]
+            ZO[i, j] = s
+        tr += ZO[i, i]
+    lam = POLISH_DAMPING * tr / 6.0
+    for i in range(6):
+        ZO[i, i] += lam
+    return solve6(ZO[:6], ZO[6], dq) > 0.0
+
+
+@njit
+def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO, damped=False):
     """:func:`polish` with caller-provided work arrays ``T`` (4, 4), ``J`` (6, 6), ``e``, ``dq``
     (6,) and ``ZO`` (7, 6)."""
     tol_p = K[L.POS_TOL]
@@ -316,7 +357,7 @@ def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO):
         if not (dp < 1e300 and dr < 1e300):
             return False
         pose_error(T, Td, e, ZO[:3, :3])  # (ZO is free until the next fk_jacobian)
-        if solve6(J, e, dq) < 1e-14:
+        if solve6(J, e, dq) < 1e-14 and not (damped and _damped_step(q, Td, K, T, J, e, dq, ZO)):
             return False
         # a limited step keeps the polish on the solution it started near
         big = 0.0
