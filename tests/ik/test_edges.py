@@ -168,14 +168,7 @@ def _on_shoulder_set(rng, radial=0.0):
             return q
 
 
-_OPEN = pytest.mark.xfail(reason="issue 12 item 2 open: 1e-6 mm from the set, 1 source of 40 missed: "
-                           "where the arm plane contains the line of virtual centres three exact solutions "
-                           "lie within 1.3e-4 rad (q1) and the tolerance's valley around them spans +-1.2e-3 "
-                           "rad; ik_all returns two points at its edges (1.2e-3 rad from the cluster, each "
-                           "exact to 1e-9 mm) instead of the cluster itself", strict=False)
-
-
-@pytest.mark.parametrize("radial", [0.0, 1e-9, pytest.param(1e-6, marks=_OPEN), 1e-3, 1.0])
+@pytest.mark.parametrize("radial", [0.0, 1e-9, 1e-6, 1e-3, 1.0])
 def test_shoulder_singular_set(paper, radial):
     """Virtual wrist centre on axis 1 (and near it): the orientation still fixes q1, every
     solution is isolated and found, and ik returns the source for its own configuration."""
@@ -211,13 +204,6 @@ def test_shoulder_set_q1_not_from_the_seed(paper):
             assert source_found(paper, sols, s, T)
 
 
-_SEED_OPEN = pytest.mark.xfail(
-    strict=False, reason="issue 12 item 2 open: with axis 7 on axis 1 (q = [q1, 90, -90, q4, 0, q7] deg) "
-    "ik(T, config, seed) takes q1 from seeds q1 = -2, -1 and 2.5 rad but returns q1 = 0 for seeds 0.5 and 1 "
-    "rad (4 of 10 measured)")
-
-
-@_SEED_OPEN
 def test_axis7_on_axis1_q1_from_the_seed(paper):
     """Axis 7 on axis 1 (straight wrist, axis 4 vertical through axis 1): the whole pose leaves
     q1 free (q1 + q4 + q7 is what counts), and ik takes q1 from the seed."""

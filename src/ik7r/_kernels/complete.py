@@ -72,12 +72,12 @@ FOLD_WINDOW = 1e-4
 #: Two exact solutions closer than this (rad, every joint) are one when the segment between
 #: them is exact too (see :func:`_add`).
 MERGE_WINDOW = 1e-2
-#: A candidate of the idealised model whose Jacobian is singular is polished by damped steps
-#: (:func:`ik7r._kernels.fk.polish`) when no solution found lies within this (rad, every joint):
-#: a singular arm and wrist at once (the shoulder set with a nearly straight wrist; axis 7 on
-#: axis 1) make clusters of exact solutions and continua whose members Newton cannot polish.
-#: Closer to a solution the candidate is a shadow of it (where the FK is that flat, the poses
-#: within about 1e-3 rad of an exact solution are within the tolerance too).
+#: A candidate of the idealised model on the shoulder singular set (:func:`_on_shoulder_set`)
+#: whose Jacobian is singular is polished by damped steps (:func:`ik7r._kernels.fk.polish`) when
+#: no solution found lies within this (rad, every joint): there a nearly straight wrist makes
+#: clusters of exact solutions, and axis 7 on axis 1 continua, whose members Newton cannot
+#: polish. Closer to a solution the candidate is a shadow of it (where the FK is that flat, the
+#: poses within about 1e-3 rad of an exact solution are within the tolerance too).
 SINGULAR_ALONE = 1e-3
 
 #: Grid of the theta5 scan of an undecided bracket (see :func:`_scan_theta5`), and how close to
@@ -327,9 +327,33 @@ def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
                 return count, False
         elif _known(q, out, count, DUP_TOL):
             return count, True  # the solution it would polish to is there (see _known)
-        elif not polish(q, Td, K, 8, not snap and not _known(q, out, count, SINGULAR_ALONE)):
+        elif not polish(q, Td, K, 8, not snap and _on_shoulder_set(q, K)
+                        and not _known(q, out, count, SINGULAR_ALONE)):
             return count, False
     return _add(q, out, count, Td, K, mats), True
+
+
+@njit
+def _on_shoulder_set(q, K):
+    """Whether the virtual wrist centre of ``q`` (user angles) lies within SHOULDER_NEAR of the
+    robot's size from axis 1, for a robot without lateral offset: the shoulder singular set,
+    where the arm leaves theta1 free (its distance in the arm plane, ``a1`` plus the reach of
+    joints 2 and 3 to the centre at ``d4 + d(theta5)`` along axis 4)."""
+    if K[L.B] != 0.0:
+        return False
+    x = K[L.SB] * math.sin(0.5 * abs(wrap(K[L.SIGN + 4] * q[4] + K[L.DH + 19])))
+    h = 1.0 - 2.0 * x * x
+    if h < 1e-9:
+        return False  # the fold of a 45 deg twist: the virtual centre is at infinity
+    Ld = K[L.D4] + K[L.KW] / h
+    t2 = K[L.SIGN + 1] * q[1] + K[L.DH + 7]
+    t3 = K[L.SIGN + 2] * q[2] + K[L.DH + 11]
+    c3 = math.cos(t3)
+    s3 = math.sin(t3)
+    e3 = K[L.EPS3]
+    x2 = K[L.A2] + K[L.A3] * c3 + e3 * Ld * s3
+    y2 = K[L.A3] * s3 - e3 * Ld * c3
+    return abs(K[L.A1] + math.cos(t2) * x2 - math.sin(t2) * y2) < SHOULDER_NEAR * K[L.SCALE]
 
 
 @njit
