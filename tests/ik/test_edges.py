@@ -206,12 +206,19 @@ def test_shoulder_set_q1_not_from_the_seed(paper):
 
 def test_axis7_on_axis1_q1_from_the_seed(paper):
     """Axis 7 on axis 1 (straight wrist, axis 4 vertical through axis 1): the whole pose leaves
-    q1 free (q1 + q4 + q7 is what counts), and ik takes q1 from the seed."""
+    q1 free (only a signed sum of q1, q4 and q7 counts), ik takes q1 from the seed, and without
+    a seed ik and ik_all answer with q1 = 0."""
     misses = []
     for q1 in (0.3, -1.2):
         q = np.array([q1, np.pi / 2, -np.pi / 2, 0.7, 0.0, -0.4])
         T = paper.fk(q)
         assert abs(abs(T[2, 2]) - 1.0) < 1e-12 and np.hypot(T[0, 3], T[1, 3]) < 1e-9
+        sols = paper.ik_all(T)
+        assert_exact(paper, sols, T)
+        assert len(sols) > 0 and np.all(np.abs(wrap(sols[:, 0])) < 1e-9)
+        s = paper.ik(T, int(paper.config_of(q)))
+        assert_exact(paper, s[None], T)
+        assert abs(wrap(s[0])) < 1e-9
         for seed_q1 in (-2.0, -1.0, 0.5, 1.0, 2.5):
             seed = q.copy()
             seed[0] = seed_q1
