@@ -227,3 +227,82 @@ def test_axis7_on_axis1_q1_from_the_seed(paper):
             if abs(wrap(s[0] - seed_q1)) > 1e-9:
                 misses.append((q1, seed_q1, float(s[0])))
     assert misses == []
+
+
+def _straight_duplicates(robot, sols):
+    """Pairs of answers that are one solution by the documented rule (docs/guide/edges.md):
+    closer than 1e-5 rad in every joint, or both with abs(q5) < 1e-5 and the same q1, q2, q3, q5
+    and ``s4 q4 + s7 q7`` within 1e-5 (mod 2 pi). The second part is stricter than the library's
+    (which merges a nearly straight answer only into an exactly straight one) and is meant for
+    poses made from an exactly straight wrist, where the straight solution is the only one there:
+    a nearly straight pair with one arm and one sum beside it is a shadow of it."""
+    s4, s7 = robot.joint_sign[3], robot.joint_sign[6]
+    n = 0
+    for i in range(len(sols)):
+        for j in range(i):
+            d = np.abs(wrap(sols[i] - sols[j]))
+            tot = abs(wrap(s4 * (sols[i][3] - sols[j][3]) + s7 * (sols[i][5] - sols[j][5])))
+            straight = max(abs(sols[i][4]), abs(sols[j][4])) < 1e-5
+            n += d.max() < 1e-5 or (straight and max(d[[0, 1, 2, 4]].max(), tot) < 1e-5)
+    return n
+
+
+def _axis7_on_axis1(q1, q4, q7):
+    return np.array([q1, np.pi / 2, -np.pi / 2, q4, 0.0, q7])
+
+
+def test_straight_wrist_no_duplicates(paper):
+    """No straight-wrist solution is returned twice: beside axis 7 on axis 1 the FK is flat and
+    the wrist's two bends +-3e-8 (q4 half a turn apart, the same s4 q4 + s7 q7) both met the
+    tolerance (issue 12 item 2); also random straight poses of the paper robot and of an exact
+    generated member. Every source is among the answers (but with axis 7 on axis 1, where q1 is
+    free: ik_all answers with q1 = 0, see test_axis7_on_axis1_q1_from_the_seed)."""
+    from reference_ik import family_member
+
+    rng = np.random.default_rng(1212)
+    member = ik7r.robot.Robot(name="member", dh=family_member(rng))
+    free = [(paper, _axis7_on_axis1(q1, q4, q7))
+             for q1, q4, q7 in [(0.3, 0.7, -0.4), (-1.2, 0.7, -0.4), (0.3, 0.0, 0.0),
+                                (-1.2, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, -np.pi, np.pi)]]
+    free += [(paper, _axis7_on_axis1(*rng.uniform(-np.pi, np.pi, 3))) for _ in range(6)]
+    cases = []
+    for robot in (paper, member):
+        for _ in range(12):
+            q = rng.uniform(-np.pi, np.pi, 6)
+            q[4] = 0.0
+            cases.append((robot, q))
+    bad = []
+    for k, (robot, q) in enumerate(free + cases):
+        T = robot.fk(q)
+        sols = robot.ik_all(T)
+        assert_exact(robot, sols, T)
+        assert len(sols) > 0
+        if k >= len(free):
+            assert source_found(robot, sols, q, T), (robot.name, q)
+        if _straight_duplicates(robot, sols):
+            bad.append((robot.name, q.round(3).tolist(), len(sols)))
+    assert bad == []
+
+
+def test_axis7_on_axis1_split_from_the_seed(paper):
+    """Axis 7 on axis 1: ik takes q1 and the q4/q7 split from the seed, the split by the
+    documented rule (q4 and q7 each move by half the difference of s4 q4 + s7 q7 from the
+    seed's: the nearest split to it); the sum itself the pose fixes (checked by the FK)."""
+    rng = np.random.default_rng(77)
+    s4, s7 = paper.joint_sign[3], paper.joint_sign[6]
+    misses = []
+    for q1 in (0.3, -1.2):
+        q = _axis7_on_axis1(q1, 0.7, -0.4)
+        T = paper.fk(q)
+        seeds = [np.r_[seed_q1, q[1:]] for seed_q1 in (-2.0, -1.0, 0.5, 1.0, 2.5)]
+        seeds += [np.r_[rng.uniform(-3, 3), q[1:3], rng.uniform(-3, 3), 0.0, rng.uniform(-3, 3)]
+                  for _ in range(5)]
+        for seed in seeds:
+            s = paper.ik(T, int(paper.config_of(seed)), seed=seed)
+            assert_exact(paper, s[None], T)
+            lam = 0.5 * wrap(s4 * s[3] + s7 * s[5] - s4 * seed[3] - s7 * seed[5])
+            want = (seed[3] + s4 * lam, seed[5] + s7 * lam)
+            if (abs(wrap(s[0] - seed[0])) > 1e-9 or abs(wrap(s[3] - want[0])) > 1e-9
+                    or abs(wrap(s[5] - want[1])) > 1e-9):
+                misses.append((q1, seed.round(3).tolist(), s.round(6).tolist()))
+    assert misses == []

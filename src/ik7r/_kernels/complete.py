@@ -69,6 +69,8 @@ FILTER_MARGIN_DEVIATING = 0.1
 #: Window (rad) around theta5 = 0 and pi where solutions are tried at exactly 0 or pi first, and
 #: where nearly folded solutions merge into the folded one.
 FOLD_WINDOW = 1e-4
+#: A solution with theta5 within this (rad) of 0 is exactly straight: only s4 q4 + s7 q7 counts.
+STRAIGHT_EXACT = 1e-9
 #: Two exact solutions closer than this (rad, every joint) are one when the segment between
 #: them is exact too (see :func:`_add`).
 MERGE_WINDOW = 1e-2
@@ -228,9 +230,16 @@ def _psi_candidates(a11, a12, m, a21, a22, c, out, tol=1e-4):
 def _straight_split(q, Q, K, hint, has_hint):
     """At the straight wrist (theta5 = 0) only theta4 + theta7 is defined: split it nearest to
     the hint, else with theta4 = 0."""
+    total = math.atan2(Q[1, 0], Q[0, 0]) - K[L.THETA_OFFSET4] - K[L.THETA_OFFSET7]  # s4 q4 + s7 q7
+    _split_sum(q, total, K, hint, has_hint)
+
+
+@njit
+def _split_sum(q, total, K, hint, has_hint):
+    """Set q4 and q7 of a straight wrist to ``s4 q4 + s7 q7 = total``: the hint's split, each
+    moved by half the difference (the nearest such pair to the hint), else q4 = 0."""
     s4 = K[L.SIGN + 3]
     s7 = K[L.SIGN + 6]
-    total = math.atan2(Q[1, 0], Q[0, 0]) - K[L.THETA_OFFSET4] - K[L.THETA_OFFSET7]  # s4 q4 + s7 q7
     if has_hint:
         lam = 0.5 * wrap(total - s4 * hint[3] - s7 * hint[5])
         q[3] = hint[3] + s4 * lam
@@ -241,12 +250,40 @@ def _straight_split(q, Q, K, hint, has_hint):
 
 
 @njit
+def _straight_damped(qq, Td, K, hint, has_hint, mats):
+    """Polish the straight snap ``qq`` of the idealised model on the shoulder set by damped steps
+    (:func:`ik7r._kernels.fk.polish`), in place; True when that reaches an exactly straight
+    solution, then with q1 as the arm set it (the seed's; the continuum of axis 7 on axis 1 turns
+    the wrist's sum with it) and the split of :func:`_split_sum`. (There the arm's root is only
+    good to about sqrt(eps), a double root, and the FK is flat: Newton cannot polish the snap, and
+    the two bends +-t5 beside it are shadows of the one straight solution.)"""
+    q1 = qq[0]
+    if not polish(qq, Td, K, 8, True) or _bend(qq, K) > STRAIGHT_EXACT:
+        return False
+    qq[4] = user_angle(4, 0.0, K)
+    T = mats[_T]
+    d1 = wrap(q1 - qq[0])
+    q4 = qq[3]
+    for sgn in (1.0, -1.0, 0.0):  # (0: q1 stays where the polish left it)
+        qq[0] = q1 if sgn != 0.0 else q1 - d1
+        qq[3] = q4 + sgn * d1
+        fk_user(qq, K, T)
+        dp, dr = residual(T, Td)
+        if dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]:
+            break
+    _split_sum(qq, K[L.SIGN + 3] * qq[3] + K[L.SIGN + 6] * qq[5], K, hint, has_hint)
+    return True
+
+
+@njit
 def _add(q, out, count, Td, K, mats):
     """Append ``q`` (wrapped) to ``out[:count]`` unless it is already there: within DUP_TOL of
     a solution in every joint, or within MERGE_WINDOW and joined to it by a segment that is
     exact all along (:func:`_joined`): where the FK is flat (a
     nearly singular arm and wrist at once) exact solutions come as clusters of shadows wider
-    than DUP_TOL, while two distinct solutions have an inexact pose between them. A new
+    than DUP_TOL, while two distinct solutions have an inexact pose between them. An exactly
+    straight ``q`` takes the place of a nearly straight solution it is one with, and the other
+    nearly straight shadows of its circle go (see :func:`_same_straight`). A new
     solution when ``out`` is full raises RuntimeError (never a silent drop)."""
     for i in range(6):
         q[i] = wrap(q[i])
@@ -255,6 +292,10 @@ def _add(q, out, count, Td, K, mats):
         for i in range(6):
             far = max(far, abs(wrap(out[k, i] - q[i])))
         if far <= DUP_TOL or _same_straight(out[k], q, K):
+            if _bend(q, K) <= STRAIGHT_EXACT < _bend(out[k], K):
+                for i in range(6):
+                    out[k, i] = q[i]
+                return _drop_straight_shadows(out, count, k, K)
             return count
         if far < MERGE_WINDOW:
             # (scratch: the next free row, or when full the wrist's work matrix, free here)
@@ -270,21 +311,49 @@ def _add(q, out, count, Td, K, mats):
 
 
 @njit
+def _bend(q, K):
+    """abs(DH theta5) of ``q`` (user angles, wrapped)."""
+    return abs(wrap(K[L.SIGN + 4] * q[4] + K[L.DH + 19]))
+
+
+@njit
 def _same_straight(q0, q1, K):
-    """Whether ``q0`` and ``q1`` are one straight-wrist solution of the idealised model: both
-    with theta5 within 1e-9 of 0, the arm within DUP_TOL and the same ``s4 q4 + s7 q7`` (the
-    only wrist angle defined there; the split is free)."""
+    """Whether ``q0`` and ``q1`` are one straight-wrist solution of the idealised model: one of
+    them with theta5 within STRAIGHT_EXACT of 0, the other within DUP_TOL, the arm within
+    DUP_TOL and the same ``s4 q4 + s7 q7`` (the only wrist angle defined there; the split is
+    free). So a nearly straight solution within DUP_TOL (every joint) of a point of an exactly
+    straight one's circle is that solution: where the FK is flat the circle has nearly straight
+    shadows, e.g. the wrist's two bends +-3e-8 with q4 half a turn apart beside axis 7 on axis 1."""
     if K[L.DEVIATION] != 0.0:
         return False
-    for q in (q0, q1):
-        if abs(wrap(K[L.SIGN + 4] * q[4] + K[L.DH + 19])) > 1e-9:
-            return False
+    b0 = _bend(q0, K)
+    b1 = _bend(q1, K)
+    if min(b0, b1) > STRAIGHT_EXACT or max(b0, b1) > DUP_TOL:
+        return False
+    if abs(wrap(q0[4] - q1[4])) > DUP_TOL:
+        return False
     for i in range(3):
         if abs(wrap(q0[i] - q1[i])) > DUP_TOL:
             return False
     s4 = K[L.SIGN + 3]
     s7 = K[L.SIGN + 6]
     return abs(wrap(s4 * (q0[3] - q1[3]) + s7 * (q0[5] - q1[5]))) <= DUP_TOL
+
+
+@njit
+def _drop_straight_shadows(out, count, k, K):
+    """Drop from ``out[:count]`` the rows other than ``k`` that are one solution with the exactly
+    straight ``out[k]`` (:func:`_same_straight`); returns the new count."""
+    keep = 0
+    for s in range(count):
+        if s == k or not _same_straight(out[k], out[s], K):
+            if keep != s:
+                for i in range(6):
+                    out[keep, i] = out[s, i]
+            if s == k:
+                k = keep
+            keep += 1
+    return keep
 
 
 @njit
@@ -457,6 +526,15 @@ def _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, fi
         count, exact = _accept(qq, Td, K, out, count, mats, True)
         if exact:
             return count
+        if K[L.DEVIATION] == 0.0:
+            for i in range(6):  # (the snap again: _accept's failed polish moved it)
+                qq[i] = q[i]
+            qq[4] = user_angle(4, 0.0, K)
+            _straight_split(qq, Q, K, hint, has_hint)
+            if _on_shoulder_set(qq, K) and _straight_damped(qq, Td, K, hint, has_hint, mats):
+                count, exact = _accept(qq, Td, K, out, count, mats, True)
+                if exact:
+                    return count
         # nearly straight: theta5 from the bend itself (d is flat in theta5 at zero)
         t5 = theta5_of_bend(Q, K)
         if t5 == 0.0:
