@@ -281,7 +281,7 @@ def test_straight_wrist_no_duplicates(paper):
             assert source_found(robot, sols, q, T), (robot.name, q)
         if _straight_duplicates(robot, sols):
             bad.append((robot.name, q.round(3).tolist(), len(sols)))
-    assert bad == []
+    assert bad == [], bad
 
 
 def test_axis7_on_axis1_split_from_the_seed(paper):

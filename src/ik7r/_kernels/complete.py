@@ -327,8 +327,10 @@ def _same_straight(q0, q1, K):
     if K[L.DEVIATION] != 0.0:
         return False
     b0 = _bend(q0, K)
+    if b0 > DUP_TOL:
+        return False
     b1 = _bend(q1, K)
-    if min(b0, b1) > STRAIGHT_EXACT or max(b0, b1) > DUP_TOL:
+    if b1 > DUP_TOL or min(b0, b1) > STRAIGHT_EXACT:
         return False
     if abs(wrap(q0[4] - q1[4])) > DUP_TOL:
         return False
