@@ -86,6 +86,11 @@ SHOULDER_NEAR = 1e-5
 #: ... and this for a model that deviates from the idealised one (near the set its solutions come
 #: in clusters the idealised roots do not have: the nominal gap's dips are candidates there)
 SHOULDER_SCAN_DEVIATING = 2e-3
+#: ... where the nominal shoulder gap has a dip below SHOULDER_DIP (rad), the exact model's
+#: reduced residual in q1 is tracked over the dip's two cells, SHOULDER_CELLS cells each way
+#: (see :func:`_shoulder_exact`)
+SHOULDER_DIP = 0.1
+SHOULDER_CELLS = 4
 #: Models that deviate from the idealised one: theta5 within this (rad) of 0 and pi is scanned
 #: when a root lies there.
 DEVIATING_ENDS = 2e-2
@@ -733,6 +738,10 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
             if fm < near:  # (also when split: at a tangency the bottom itself is the root)
                 t = tm
                 have = True
+            if (front == 0.0 and K[L.DEVIATION] > 0.0 and fm < SHOULDER_DIP and ta == sub[0]
+                    and tb == sub[1]):
+                count = _shoulder_exact(tm, t_lo, t_hi, elbow, p, a, R07, Td, K, hint, out, count,
+                                        ws, mats)
             if fm < near and npieces < SCAN_PIECES and t_hi - t_lo >= 1e-2 * (sub[1] - sub[0]):
                 # a dip that reaches (nearly) zero may hide more than one root: scan it again
                 # on a grid of its own
@@ -775,6 +784,47 @@ def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
             count, npieces = _scan_piece(sub[2 * j], sub[2 * j + 1], sub, npieces, 0.0, elbow,
                                          p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
             j += 1
+    return count
+
+
+@njit
+def _shoulder_exact(t1, t_lo, t_hi, elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
+    """Near the shoulder set, on a model that deviates from the idealised one: every exact
+    solution next to the dip at theta1 = ``t1`` (DH) of the nominal shoulder gap on the elbow
+    branch ``elbow``, in [t_lo, t_hi]. There the deviation moves the virtual centre, a fraction
+    of a millimetre from axis 1, by a good part of its distance from it, so the exact model's
+    solutions lie 0.1 rad and more from the nominal ones in theta1 and come in pairs where the
+    nominal gap has only a dip (the idealised roots are complex). With theta1 fixed the five
+    other joints are regular, so they are the zeros of the exact model's reduced residual in q1
+    (:func:`_reduced_at`), tracked from the nominal arm and wrist at the dip (both wrist signs)
+    toward both ends of the dip's cells (:func:`_reduced_scan`)."""
+    th = ws[_TH:_TH + _NTH]
+    _, ok = _shoulder_gap(t1, p, a, elbow, K, th)
+    if not ok:
+        return count
+    M = mats[_M]
+    for i in range(4):
+        for j in range(4):
+            M[i, j] = 1.0 if i == j else 0.0
+    for i in range(3):
+        dh_step_cs(M, K, L.NDH, L.TRIG + 14, i, th[i], th[3 + i])
+    Q = mats[_Q, :3, :3]
+    wrist_target(M[:3, :3], R07, K, Q)
+    q = ws[_Q6:_Q6 + 6]
+    qq = ws[_QQ:_QQ + 6]
+    for i in range(3):
+        q[i] = user_angle(i, _angle(th, i), K)
+    t5 = th[6]
+    t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
+    v_lo = user_angle(0, t_lo, K)
+    v_hi = user_angle(0, t_hi, K)
+    v_lo = q[0] + wrap(v_lo - q[0])
+    v_hi = q[0] + wrap(v_hi - q[0])
+    for sgn in (1.0, -1.0):
+        for v_end in (v_lo, v_hi):
+            # (the start into qq: _reduced_scan reads it once, before it adds anything)
+            _with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
+            count = _reduced_scan(qq, 0, q[0], v_end, SHOULDER_CELLS, Td, K, out, count, mats)
     return count
 
 
@@ -1028,25 +1078,38 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
     """Extra candidates for a model that deviates from the idealised one: local minima of
     |residual| that come close to zero without crossing it. A pair of nearby roots of the
     idealised residual can vanish (turn complex) under the deviation while the exact model
-    keeps its two solutions there; Newton's polish from the minimum finds them."""
+    keeps its two solutions there; Newton's polish from the minimum finds them.
+
+    For robots with offsets ``G = F(d, rho) F(d, -rho)`` is a product over the two shoulder
+    branches, and a near miss of one factor (the two exact solutions of one branch next to the
+    elbow stretch or the shoulder set) often lies within a grid cell of a simple root of the
+    other, where ``G`` changes sign and shows no minimum: the factors are searched each on its
+    own (and ``G`` too where rho can be imaginary, a lateral offset)."""
     m = NEAR_GRID
+    if kind != 0 or K[L.PRODUCT] == 0.0:
+        k0, k1 = kind, kind + 1
+    else:
+        k0, k1 = (2 if K[L.B] == 0.0 else 0), 4  # kinds 2 and 3: the factors (0: G itself)
     fs = np.empty(m + 1)
     ms = np.empty(m + 1)
-    for i in range(m + 1):
-        fs[i], ms[i] = residual_of(kind, lo + (hi - lo) * i / m, p, a, K)
-    for i in range(1, m):
-        fa = abs(fs[i])
-        if (fa <= abs(fs[i - 1]) and fa <= abs(fs[i + 1]) and fs[i - 1] * fs[i] > 0.0
-                and fs[i] * fs[i + 1] > 0.0 and fa < NEAR_RATIO * ms[i]):
-            u = _least_abs(kind, lo + (hi - lo) * (i - 1) / m, lo + (hi - lo) * (i + 1) / m, p, a, K)
-            h = 0.5 * (hi - lo) / m
-            for v in (u, u - h, u + h):  # the minimum and starts on either side of it
-                if abs(v) > 1e-12:
-                    if count == roots.shape[0]:
-                        raise RuntimeError("ik7r: more candidate roots than ROOT_CAP; none is "
-                                           "dropped silently: please report the pose")
-                    roots[count] = K[L.KW] / v
-                    count += 1
+    for kd in range(k0, k1):
+        if kd == 1 and kind == 0:
+            continue
+        for i in range(m + 1):
+            fs[i], ms[i] = residual_of(kd, lo + (hi - lo) * i / m, p, a, K)
+        for i in range(1, m):
+            fa = abs(fs[i])
+            if (fa <= abs(fs[i - 1]) and fa <= abs(fs[i + 1]) and fs[i - 1] * fs[i] > 0.0
+                    and fs[i] * fs[i + 1] > 0.0 and fa < NEAR_RATIO * ms[i]):
+                u = _least_abs(kd, lo + (hi - lo) * (i - 1) / m, lo + (hi - lo) * (i + 1) / m, p, a, K)
+                h = 0.5 * (hi - lo) / m
+                for v in (u, u - h, u + h):  # the minimum and starts on either side of it
+                    if abs(v) > 1e-12:
+                        if count == roots.shape[0]:
+                            raise RuntimeError("ik7r: more candidate roots than ROOT_CAP; none is "
+                                               "dropped silently: please report the pose")
+                        roots[count] = K[L.KW] / v
+                        count += 1
     return count
 
 
