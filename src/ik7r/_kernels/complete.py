@@ -28,6 +28,8 @@ from .poly import (
     REFINE_GRID,
     _least_abs,
     _newton_on_bracket,
+    _off_zero,
+    _power,
     bend_row_on_axis,
     brent_next,
     brent_start,
@@ -1083,26 +1085,41 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
     For robots with offsets ``G = F(d, rho) F(d, -rho)`` is a product over the two shoulder
     branches, and a near miss of one factor (the two exact solutions of one branch next to the
     elbow stretch or the shoulder set) often lies within a grid cell of a simple root of the
-    other, where ``G`` changes sign and shows no minimum: the factors are searched each on its
-    own (and ``G`` too where rho can be imaginary, a lateral offset)."""
+    other, where ``G`` changes sign and shows no minimum: the factors are searched too (a
+    factor's minimum within a quarter of a cell of one found before is that one)."""
     m = NEAR_GRID
-    if kind != 0 or K[L.PRODUCT] == 0.0:
-        k0, k1 = kind, kind + 1
-    else:
-        k0, k1 = (2 if K[L.B] == 0.0 else 0), 4  # kinds 2 and 3: the factors (0: G itself)
-    fs = np.empty(m + 1)
-    ms = np.empty(m + 1)
-    for kd in range(k0, k1):
-        if kd == 1 and kind == 0:
+    nk = 3 if kind == 0 and K[L.PRODUCT] != 0.0 else 1
+    fs = np.empty((nk, m + 1))
+    ms = np.empty((nk, m + 1))
+    for i in range(m + 1):
+        u = lo + (hi - lo) * i / m
+        if nk == 1:
+            fs[0, i], ms[0, i] = residual_of(kind, u, p, a, K)
             continue
-        for i in range(m + 1):
-            fs[i], ms[i] = residual_of(kd, lo + (hi - lo) * i / m, p, a, K)
+        fs[1, i], ms[1, i] = residual_of(2, u, p, a, K)
+        fs[2, i], ms[2, i] = residual_of(3, u, p, a, K)
+        if math.isnan(fs[1, i]):  # (rho imaginary: G is |F(d, rho)|^2)
+            fs[0, i], ms[0, i] = residual_of(0, u, p, a, K)
+        else:  # G from its factors, as residual_G has it (scaled by u^16 once)
+            sc = _power(_off_zero(u), K)
+            fs[0, i] = fs[1, i] * fs[2, i] / sc
+            ms[0, i] = (abs(fs[1, i]) * ms[2, i] + abs(fs[2, i]) * ms[1, i]
+                        + ms[1, i] * ms[2, i] * 1e-16) / sc
+    h = 0.5 * (hi - lo) / m
+    n0 = count
+    for k in range(nk):
+        kd = kind if k == 0 else k + 1  # kinds 2 and 3: the factors (see residual_of)
+        n1 = count
         for i in range(1, m):
-            fa = abs(fs[i])
-            if (fa <= abs(fs[i - 1]) and fa <= abs(fs[i + 1]) and fs[i - 1] * fs[i] > 0.0
-                    and fs[i] * fs[i + 1] > 0.0 and fa < NEAR_RATIO * ms[i]):
+            fa = abs(fs[k, i])
+            if (fa <= abs(fs[k, i - 1]) and fa <= abs(fs[k, i + 1]) and fs[k, i - 1] * fs[k, i] > 0.0
+                    and fs[k, i] * fs[k, i + 1] > 0.0 and fa < NEAR_RATIO * ms[k, i]):
                 u = _least_abs(kd, lo + (hi - lo) * (i - 1) / m, lo + (hi - lo) * (i + 1) / m, p, a, K)
-                h = 0.5 * (hi - lo) / m
+                seen = False
+                for j in range(n0, n1):  # (the minima found before, and their neighbours)
+                    seen = seen or abs(K[L.KW] / roots[j] - u) < 0.5 * h
+                if seen:
+                    continue
                 for v in (u, u - h, u + h):  # the minimum and starts on either side of it
                     if abs(v) > 1e-12:
                         if count == roots.shape[0]:
