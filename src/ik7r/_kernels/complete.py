@@ -64,6 +64,10 @@ NEAR_SINGULAR = 2e-3
 #: magnitude of the residual's terms) a local minimum of |residual| must come.
 NEAR_GRID = 64
 NEAR_RATIO = 1e-2
+#: ... and, at the refined minimum, for one factor of G (one shoulder branch: see
+#: :func:`_near_misses`; the near tangencies that hid exact pairs of the IRB 5400 came to 1e-5
+#: and below)
+NEAR_RATIO_FACTOR = 1e-4
 #: solve_config skips candidates whose indicators differ beyond this margin (rad) from a
 #: boundary (larger for deviating models, whose polish moves the joints further).
 FILTER_MARGIN = 1e-3
@@ -1115,6 +1119,10 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
             if (fa <= abs(fs[k, i - 1]) and fa <= abs(fs[k, i + 1]) and fs[k, i - 1] * fs[k, i] > 0.0
                     and fs[k, i] * fs[k, i + 1] > 0.0 and fa < NEAR_RATIO * ms[k, i]):
                 u = _least_abs(kd, lo + (hi - lo) * (i - 1) / m, lo + (hi - lo) * (i + 1) / m, p, a, K)
+                if k > 0:
+                    fu, mu = residual_of(kd, u, p, a, K)
+                    if not abs(fu) < NEAR_RATIO_FACTOR * mu or fu * fs[k, i] <= 0.0:
+                        continue  # clear of zero, or two real roots (the search has them)
                 seen = False
                 for j in range(n0, n1):  # (the minima found before, and their neighbours)
                     seen = seen or abs(K[L.KW] / roots[j] - u) < 0.5 * h
