@@ -78,20 +78,15 @@ def test_irb5400_nearly_straight_wrist(irb):
     assert misses(irb, _straight(np.random.default_rng(1232), 300, False)) == []
 
 
-_OPEN = pytest.mark.xfail(reason="issue 12 item 4 open: clusters of exact solutions near the shoulder "
-                           "set or the elbow stretch whose idealised roots are complex (3 in 100,000 "
-                           "uniform poses) are missed when no candidate lands in them", strict=False)
-
-
-@_OPEN
 def test_irb5400_issue_example(irb):
-    """The issue's near-shoulder pose whose idealised roots vanish under the deviation."""
+    """The issue's near-shoulder pose whose idealised roots vanish under the deviation: its pair
+    of exact solutions (q1 = -2.758 and -2.645) is found by the exact model's reduced residual in
+    q1 at the nominal shoulder gap's dip."""
     q = np.array([-2.7577578594390535, 1.742793594342996, 1.5876657076955594, 1.2817145857958927,
                   -0.38076226367690147, 2.440234785047836])
     assert misses(irb, q[None]) == []
 
 
-@_OPEN
 def test_irb5400_full_range(irb):
     """Uniform over [-pi, pi]^6 (the 100,000-pose count is in benchmarks/edges.py)."""
     Q = np.random.default_rng(1233).uniform(-np.pi, np.pi, (20000, 6))
