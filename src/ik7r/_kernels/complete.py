@@ -64,10 +64,9 @@ NEAR_SINGULAR = 2e-3
 #: magnitude of the residual's terms) a local minimum of |residual| must come.
 NEAR_GRID = 64
 NEAR_RATIO = 1e-2
-#: ... and, at its refined minimum, for one factor of G (one shoulder branch: see
-#: :func:`_near_misses`; the near misses that hid exact pairs of the IRB 5400 came to 1e-3)
-NEAR_RATIO_FACTOR = 3e-3
-NEAR_RATIO_END = 1e-4  # (a factor's minimum at an end of the range)
+#: ... and, at its refined minimum, for one factor of G at an end of the range (see
+#: :func:`_near_misses`; inside the range a factor's grid minimum is held to NEAR_RATIO as G's)
+NEAR_RATIO_END = 1e-4
 #: solve_config skips candidates whose indicators differ beyond this margin (rad) from a
 #: boundary (larger for deviating models, whose polish moves the joints further).
 FILTER_MARGIN = 1e-3
@@ -1136,9 +1135,8 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
                 u = _least_abs(kd, lo + (hi - lo) * il / m, lo + (hi - lo) * ir / m, p, a, K)
                 if k > 0:
                     fu, mu = residual_of(kd, u, p, a, K)
-                    ratio = NEAR_RATIO_FACTOR if 0 < i < m else NEAR_RATIO_END
-                    if not abs(fu) < ratio * mu or fu * fs[k, i] <= 0.0:
-                        continue  # clear of zero, or two real roots (the certified search has them)
+                    if fu * fs[k, i] <= 0.0 or not (0 < i < m or abs(fu) < NEAR_RATIO_END * mu):
+                        continue  # two real roots (the certified search has them), or an end clear of zero
                 seen = False
                 for j in range(n0, n1):  # (the minima found before, and their neighbours)
                     seen = seen or abs(K[L.KW] / roots[j] - u) < 0.5 * h
