@@ -193,9 +193,10 @@ def test_irb5400_100k_answers_are_exact():
     assert all_exact, f"an answer misses its pose by {worst:.3g} mm"
 
 
-@pytest.mark.xfail(strict=False, reason="issue 12 item 4 open: measured 4 of 100,000 sources missed "
-                   "(seed 120900; 28 before the exact-model scans), near the elbow stretch and the "
-                   "shoulder singular set")
+@pytest.mark.xfail(strict=False, reason="issue 12 item 4 open: measured 1 of 100,000 sources missed "
+                   "(seed 120900; 4 before the near misses of each shoulder branch and the exact shoulder "
+                   "scan, 28 before the exact-model scans): q5 = 0.016 rad with the line of virtual "
+                   "centres 0.012 mm from axis 1, the straight-wrist family at the shoulder set")
 def test_irb5400_100k_round_trip():
     """100,000 IRB 5400 sources uniform in [-pi, pi]^6: every source is among its pose's answers."""
     missed, _, _, worst, examples = _irb5400_100k()

@@ -28,6 +28,8 @@ from .poly import (
     REFINE_GRID,
     _least_abs,
     _newton_on_bracket,
+    _off_zero,
+    _power,
     bend_row_on_axis,
     brent_next,
     brent_start,
@@ -62,6 +64,9 @@ NEAR_SINGULAR = 2e-3
 #: magnitude of the residual's terms) a local minimum of |residual| must come.
 NEAR_GRID = 64
 NEAR_RATIO = 1e-2
+#: ... and, at its refined minimum, for one factor of G at an end of the range (see
+#: :func:`_near_misses`; inside the range a factor's grid minimum is held to NEAR_RATIO as G's)
+NEAR_RATIO_END = 1e-4
 #: solve_config skips candidates whose indicators differ beyond this margin (rad) from a
 #: boundary (larger for deviating models, whose polish moves the joints further).
 FILTER_MARGIN = 1e-3
@@ -95,6 +100,14 @@ SHOULDER_NEAR = 1e-5
 #: ... and this for a model that deviates from the idealised one (near the set its solutions come
 #: in clusters the idealised roots do not have: the nominal gap's dips are candidates there)
 SHOULDER_SCAN_DEVIATING = 2e-3
+#: ... where the nominal shoulder gap has a dip below SHOULDER_DIP (rad), the exact model's
+#: reduced residual in q1 is tracked over the dip's two cells, SHOULDER_CELLS cells each way
+#: (see :func:`_shoulder_exact`)
+SHOULDER_DIP = 0.1
+SHOULDER_CELLS = 4
+#: ... where the line of virtual centres passes this close (relative to the robot's size) to
+#: axis 1 (1.0 mm on the IRB 5400, whose such clusters were measured within 0.6 mm)
+SHOULDER_EXACT_NEAR = 3e-4
 #: Models that deviate from the idealised one: theta5 within this (rad) of 0 and pi is scanned
 #: when a root lies there.
 DEVIATING_ENDS = 2e-2
@@ -863,6 +876,10 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
             if fm < near:  # (also when split: at a tangency the bottom itself is the root)
                 t = tm
                 have = True
+            if (front == 0.0 and K[L.DEVIATION] > 0.0 and fm < SHOULDER_DIP and ta == sub[0]
+                    and tb == sub[1]):
+                count = _shoulder_exact(tm, t_lo, t_hi, elbow, p, a, R07, Td, K, hint, out, count,
+                                        ws, mats)
             if fm < near and npieces < SCAN_PIECES and t_hi - t_lo >= 1e-2 * (sub[1] - sub[0]):
                 # a dip that reaches (nearly) zero may hide more than one root: scan it again
                 # on a grid of its own
@@ -905,6 +922,55 @@ def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
             count, npieces = _scan_piece(sub[2 * j], sub[2 * j + 1], sub, npieces, 0.0, elbow,
                                          p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
             j += 1
+    return count
+
+
+@njit
+def _shoulder_exact(t1, t_lo, t_hi, elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
+    """Near the shoulder set, on a model that deviates from the idealised one: every exact
+    solution next to the dip at theta1 = ``t1`` (DH) of the nominal shoulder gap on the elbow
+    branch ``elbow``, in [t_lo, t_hi]. There the deviation moves the virtual centre, a fraction
+    of a millimetre from axis 1, by a good part of its distance from it, so the exact model's
+    solutions lie 0.1 rad and more from the nominal ones in theta1 and come in pairs where the
+    nominal gap has only a dip (the idealised roots are complex). With theta1 fixed the five
+    other joints are regular, so they are the zeros of the exact model's reduced residual in q1
+    (:func:`_reduced_at`), tracked from the nominal arm and wrist at the dip (both wrist signs)
+    toward both ends of the dip's cells (:func:`_reduced_scan`). Only where the line of virtual
+    centres passes within SHOULDER_EXACT_NEAR of the robot's size from axis 1: further out the
+    nominal candidates and their polish find these solutions."""
+    axy2 = a[0] * a[0] + a[1] * a[1]
+    t = (p[0] * a[0] + p[1] * a[1]) / axy2  # (axy2 > 0: _scan_shoulder checked)
+    rx = p[0] - t * a[0]
+    ry = p[1] - t * a[1]
+    if rx * rx + ry * ry > (SHOULDER_EXACT_NEAR * K[L.SCALE]) ** 2:
+        return count
+    th = ws[_TH:_TH + _NTH]
+    _, ok = _shoulder_gap(t1, p, a, elbow, K, th)
+    if not ok:
+        return count
+    M = mats[_M]
+    for i in range(4):
+        for j in range(4):
+            M[i, j] = 1.0 if i == j else 0.0
+    for i in range(3):
+        dh_step_cs(M, K, L.NDH, L.TRIG + 14, i, th[i], th[3 + i])
+    Q = mats[_Q, :3, :3]
+    wrist_target(M[:3, :3], R07, K, Q)
+    q = ws[_Q6:_Q6 + 6]
+    qq = ws[_QQ:_QQ + 6]
+    for i in range(3):
+        q[i] = user_angle(i, _angle(th, i), K)
+    t5 = th[6]
+    t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
+    v_lo = user_angle(0, t_lo, K)
+    v_hi = user_angle(0, t_hi, K)
+    v_lo = q[0] + wrap(v_lo - q[0])
+    v_hi = q[0] + wrap(v_hi - q[0])
+    for sgn in (1.0, -1.0):
+        for v_end in (v_lo, v_hi):
+            # (the start into qq: _reduced_scan reads it once, before it adds anything)
+            _with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
+            count = _reduced_scan(qq, 0, q[0], v_end, SHOULDER_CELLS, Td, K, out, count, mats)
     return count
 
 
@@ -1163,25 +1229,61 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
     """Extra candidates for a model that deviates from the idealised one: local minima of
     |residual| that come close to zero without crossing it. A pair of nearby roots of the
     idealised residual can vanish (turn complex) under the deviation while the exact model
-    keeps its two solutions there; Newton's polish from the minimum finds them."""
+    keeps its two solutions there; Newton's polish from the minimum finds them.
+
+    For robots with offsets ``G = F(d, rho) F(d, -rho)`` is a product over the two shoulder
+    branches, and a near miss of one factor (the two exact solutions of one branch next to the
+    elbow stretch or the shoulder set) often lies within a grid cell of a simple root of the
+    other, where ``G`` changes sign and shows no minimum: the factors are searched too (a
+    factor's minimum within a quarter of a cell of one found before is that one)."""
     m = NEAR_GRID
-    fs = np.empty(m + 1)
-    ms = np.empty(m + 1)
+    nk = 3 if kind == 0 and K[L.PRODUCT] != 0.0 else 1
+    fs = np.empty((nk, m + 1))
+    ms = np.empty((nk, m + 1))
     for i in range(m + 1):
-        fs[i], ms[i] = residual_of(kind, lo + (hi - lo) * i / m, p, a, K)
-    for i in range(1, m):
-        fa = abs(fs[i])
-        if (fa <= abs(fs[i - 1]) and fa <= abs(fs[i + 1]) and fs[i - 1] * fs[i] > 0.0
-                and fs[i] * fs[i + 1] > 0.0 and fa < NEAR_RATIO * ms[i]):
-            u = _least_abs(kind, lo + (hi - lo) * (i - 1) / m, lo + (hi - lo) * (i + 1) / m, p, a, K)
-            h = 0.5 * (hi - lo) / m
-            for v in (u, u - h, u + h):  # the minimum and starts on either side of it
-                if abs(v) > 1e-12:
-                    if count == roots.shape[0]:
-                        raise RuntimeError("ik7r: more candidate roots than ROOT_CAP; none is "
-                                           "dropped silently: please report the pose")
-                    roots[count] = K[L.KW] / v
-                    count += 1
+        u = lo + (hi - lo) * i / m
+        if nk == 1:
+            fs[0, i], ms[0, i] = residual_of(kind, u, p, a, K)
+            continue
+        fs[1, i], ms[1, i] = residual_of(2, u, p, a, K)
+        fs[2, i], ms[2, i] = residual_of(3, u, p, a, K)
+        if math.isnan(fs[1, i]):  # (rho imaginary: G is |F(d, rho)|^2)
+            fs[0, i], ms[0, i] = residual_of(0, u, p, a, K)
+        else:  # G from its factors, as residual_G has it (scaled by u^16 once)
+            sc = _power(_off_zero(u), K)
+            fs[0, i] = fs[1, i] * fs[2, i] / sc
+            ms[0, i] = (abs(fs[1, i]) * ms[2, i] + abs(fs[2, i]) * ms[1, i]
+                        + ms[1, i] * ms[2, i] * 1e-16) / sc
+    h = 0.5 * (hi - lo) / m
+    n0 = count
+    for k in range(nk):
+        kd = kind if k == 0 else k + 1  # kinds 2 and 3: the factors (see residual_of)
+        n1 = count
+        for i in range(0 if k > 0 else 1, m + 1 if k > 0 else m):
+            # (a factor's minimum may lie at an end of the range: a near miss at the fold or
+            # the straight wrist, whose exact solutions then lie just inside)
+            fa = abs(fs[k, i])
+            il = max(i - 1, 0)
+            ir = min(i + 1, m)
+            if (fa <= abs(fs[k, il]) and fa <= abs(fs[k, ir]) and fs[k, il] * fs[k, i] > 0.0
+                    and fs[k, i] * fs[k, ir] > 0.0 and fa < NEAR_RATIO * ms[k, i]):
+                u = _least_abs(kd, lo + (hi - lo) * il / m, lo + (hi - lo) * ir / m, p, a, K)
+                if k > 0:
+                    fu, mu = residual_of(kd, u, p, a, K)
+                    if fu * fs[k, i] <= 0.0 or not (0 < i < m or abs(fu) < NEAR_RATIO_END * mu):
+                        continue  # two real roots (the certified search has them), or an end clear of zero
+                seen = False
+                for j in range(n0, n1):  # (the minima found before, and their neighbours)
+                    seen = seen or abs(K[L.KW] / roots[j] - u) < 0.5 * h
+                if seen:
+                    continue
+                for v in (u, u - h, u + h):  # the minimum and starts on either side of it
+                    if abs(v) > 1e-12:
+                        if count == roots.shape[0]:
+                            raise RuntimeError("ik7r: more candidate roots than ROOT_CAP; none is "
+                                               "dropped silently: please report the pose")
+                        roots[count] = K[L.KW] / v
+                        count += 1
     return count
 
 

@@ -150,7 +150,10 @@ def _residual_G_imaginary(d, s, p, a, K):
 @njit
 def residual_of(kind, u, p, a, K):
     """The residual in the search variable ``u = KW / d = cos(phi / 2)`` (value, term magnitude):
-    kind 0 is :func:`residual_G`, 1 is :func:`residual_fixed_theta1`.
+    kind 0 is :func:`residual_G`, 1 is :func:`residual_fixed_theta1`; 2 and 3 are the factors
+    ``F(d, rho)`` and ``F(d, -rho)`` of G for robots with offsets (one shoulder branch each; NaN
+    where rho is not real), whose near misses the product can hide (see
+    :func:`ik7r._kernels.complete._near_misses`).
 
     ``u^n G(KW / u)`` is a polynomial of the same degree n in u, and u runs over the bounded
     interval ``[cos(2 beta), 1]`` for every wrist twist up to 45 deg (where d is unbounded).
@@ -159,8 +162,13 @@ def residual_of(kind, u, p, a, K):
     d = K[L.KW] / u
     if kind == 0:
         v, m = residual_G(d, p, a, K)
-    else:
+    elif kind == 1:
         v, m = residual_fixed_theta1(d, p, a, K)
+    else:
+        s2 = _rho_squared(d, p, a, K)
+        if s2 < 0.0:
+            return math.nan, math.nan
+        v, m = residual_F(d, (1.0 if kind == 2 else -1.0) * math.sqrt(s2), p, a, K)
     scale = _power(u, K)
     return v * scale, m * scale
 
