@@ -105,6 +105,11 @@ SCAN_NEAR_DEVIATING = 1e-2
 #: the polynomial.
 FOLD_NEAR = 0.02
 FOLD_SPAN = 0.05
+#: ... and where the scaled virtual centre passes this close to axis 1 (relative to KW and the
+#: robot's size; the approach nearly parallel to axis 1) the fold gap is scanned in theta1 too.
+FOLD_AXIS_NEAR = 0.05
+#: ... where u up to this below the fold is taken at the fold (see :func:`_fold_axis_sw`).
+FOLD_AXIS_CLAMP = 1e-9
 
 #: Straight wrist of a model that deviates from the idealised one (see :func:`_straight_family`):
 #: a candidate with theta5 below this (rad) starts a scan of the split q4 over the whole turn,
@@ -641,9 +646,12 @@ def _shoulder_gap(t1, p, a, elbow, K, th):
 def _gap(t, p, a, front, elbow, K, th):
     """The bend gap of :func:`_bend_gap` at theta5 = ``t`` on the branch (front, elbow), with
     ``front`` 0 that of :func:`_shoulder_gap` at theta1 = ``t`` on the elbow branch, with
-    ``front`` +-2 the fold gap of :func:`_fold_gap` at ``sw = t`` on the branch (front / 2, elbow)."""
+    ``front`` +-2 the fold gap of :func:`_fold_gap` at ``sw = t`` on the branch (front / 2, elbow),
+    with ``front`` 3 that of :func:`_fold_axis_gap` at theta1 = ``t``."""
     if abs(front) == 2.0:
         return _fold_gap(t, p, a, 0.5 * front, elbow, K, th)
+    if front == 3.0:
+        return _fold_axis_gap(t, p, a, elbow, K, th)
     if front != 0.0:
         return _bend_gap(t, p, a, front, elbow, K, th)
     return _shoulder_gap(t, p, a, elbow, K, th)
@@ -815,6 +823,13 @@ def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
     d = t - K[L.D7]
     if not (0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]):
         return count
+    return _scan_turn(0.0, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+
+
+@njit
+def _scan_turn(front, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Every root of a gap in theta1 (``front`` 0: :func:`_shoulder_gap`, 3: :func:`_fold_axis_gap`)
+    on a grid over the whole turn (:func:`_scan_piece`, nested pieces), both elbow branches."""
     sub = ws[_SUB:_SUB + 2 * SCAN_PIECES]
     for elbow in (1.0, -1.0):
         sub[0] = -math.pi
@@ -822,14 +837,14 @@ def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
         npieces = 1
         j = 0
         while j < npieces:
-            count, npieces = _scan_piece(sub[2 * j], sub[2 * j + 1], sub, npieces, 0.0, elbow,
+            count, npieces = _scan_piece(sub[2 * j], sub[2 * j + 1], sub, npieces, front, elbow,
                                          p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
             j += 1
     return count
 
 
 @njit
-def _fold_gap(sw, p, a, front, elbow, K, th):
+def _fold_gap(sw, p, a, front, elbow, K, th, t1_in=0.0, in_plane=False):
     """The fold gap at ``u = cos(2 beta) + sw^2`` (``sw^2 = 2 sin^2(beta) sin^2(eps / 2)``, eps =
     pi - theta5: ``sw >= 0`` grows with the distance from the fully bent wrist) on the arm
     branch (``front``, ``elbow``: +-1); zero exactly at solutions. Finite at the fold, where the
@@ -845,7 +860,9 @@ def _fold_gap(sw, p, a, front, elbow, K, th):
     symmetric about the bisector of axes 4 and 7), a distance of points that both stay finite:
     the gap is ``|O - O4| / (2 |KW|) - 1``. Writes DH cosines and sines of theta1..3 into
     ``th[:6]`` (as :func:`_arm_from_psi`), theta5 (DH, in [0, pi]) into ``th[6]`` and O4 (frame 0)
-    into ``th[7:10]``. Returns (gap, ok); ok is False where the branch does not reach."""
+    into ``th[7:10]``. Returns (gap, ok); ok is False where the branch does not reach.
+    ``in_plane``: theta1 is ``t1_in`` and the scaled virtual centre is taken in that arm plane
+    (``front`` unused; see :func:`_fold_axis_gap`)."""
     u = _u_fold(K) + sw * abs(sw)  # (sw < 0: u below the fold, scanned for deviating models)
     kw = K[L.KW]
     a1 = K[L.A1]
@@ -865,15 +882,19 @@ def _fold_gap(sw, p, a, front, elbow, K, th):
     hy = u * oy - kw * a[1]
     hz = u * oz - kw * a[2]
     lh = u * d4 + kw  # u L
-    r2 = hx * hx + hy * hy
-    if r2 <= (1e-13 * scale * u) ** 2 + (1e-13 * kw) ** 2:
-        return 0.0, False  # the virtual centre (nearly) on axis 1: the shoulder scan's case
-    disc = r2 - (u * b) ** 2
-    if disc < -(1e-12 * scale * u) ** 2:
-        return 0.0, False
-    rho = front * math.sqrt(max(disc, 0.0))  # u rho
     bp = -e1 * b
-    t1 = math.atan2(rho * hy - u * bp * hx, rho * hx + u * bp * hy)
+    if in_plane:
+        t1 = t1_in
+        rho = math.cos(t1) * hx + math.sin(t1) * hy  # u rho (signed: the branch is theta1's)
+    else:
+        r2 = hx * hx + hy * hy
+        if r2 <= (1e-13 * scale * u) ** 2 + (1e-13 * kw) ** 2:
+            return 0.0, False  # the scaled virtual centre (nearly) on axis 1: _fold_axis_gap's
+        disc = r2 - (u * b) ** 2
+        if disc < -(1e-12 * scale * u) ** 2:
+            return 0.0, False
+        rho = front * math.sqrt(max(disc, 0.0))  # u rho
+        t1 = math.atan2(rho * hy - u * bp * hx, rho * hx + u * bp * hy)
     xx = rho - u * a1  # u X: the centre in the arm plane, from the shoulder
     xy = e1 * (hz - u * d1)
     nx = math.hypot(xx, xy)
@@ -923,14 +944,15 @@ def _fold_eps(sw, K):
 
 
 @njit
-def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt, ws, mats,
+                    t1=0.0, in_plane=False):
     """Complete the root ``sw`` of the fold gap on the branch (front, elbow) with the wrist and
     accept what is exact: theta5 = +-(pi - eps) (and pi itself when eps < FOLD_WINDOW); theta4
     from the position of O (the centre of joint 6) about axis 4, which stays defined where the
     orientation leaves only theta7 - theta4 (axis 7 folded back parallel to axis 4), then theta7
-    from the orientation."""
+    from the orientation. ``t1``, ``in_plane``: the arm in that plane (:func:`_fold_axis_gap`)."""
     th = ws[_TH:_TH + _NTH]
-    _, ok = _fold_gap(sw, p, a, front, elbow, K, th)
+    _, ok = _fold_gap(sw, p, a, front, elbow, K, th, t1, in_plane)
     if not ok:
         return count
     margin = _filter_margin(K)
@@ -963,7 +985,10 @@ def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, cou
     if eps < FOLD_WINDOW:
         count, exact = _accept(_with_fold_wrist(q, Q, math.pi, -1.0, 0.0, az, K, mats, qq), Td, K,
                                out, count, mats, True)
-        if exact:
+        # (done unless the polish left this arm: with the approach along axis 1 the fold has
+        # solutions of its own, which a start beside them may slide to)
+        if exact and max(abs(wrap(qq[0] - q[0])), abs(wrap(qq[1] - q[1])),
+                         abs(wrap(qq[2] - q[2]))) < FOLD_WINDOW:
             return count
     for sgn in (1.0, -1.0):
         t5 = sgn * (math.pi - eps)
@@ -1011,8 +1036,81 @@ def _scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
         # by d 1e-4, and it may come back from the other side (u < 0)
         count = _scan_theta5(-math.sqrt(0.02 * (1.0 - _u_fold(K))), 0.0, p, a, R07, Td, K, hint,
                              has_hint, out, count, filt, ws, mats, 2.0)
-    return _scan_theta5(0.0, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint, has_hint,
-                        out, count, filt, ws, mats, 2.0)
+    count = _scan_theta5(0.0, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint,
+                         has_hint, out, count, filt, ws, mats, 2.0)
+    if _fold_near_axis(p, a, K):
+        # the approach (nearly) along axis 1: the fold gap in theta1 as well
+        count = _scan_turn(3.0, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+    return count
+
+
+@njit
+def _fold_span_u(K):
+    """The span of ``u - cos(2 beta)`` the fold scan covers (see :func:`_scan_fold`)."""
+    lo = -0.02 * (1.0 - _u_fold(K)) if K[L.DEVIATION] > 0.0 else 0.0
+    return lo, FOLD_SPAN * (1.0 + 1e-3) ** 2
+
+
+@njit
+def _fold_near_axis(p, a, K):
+    """Whether the scaled virtual centre ``h(u) = u O - KW a`` (``u P``, O the centre of joint 6)
+    passes within FOLD_AXIS_NEAR (relative to ``KW + |u| scale``) of axis 1 for some u of the
+    fold span: the approach (nearly) parallel to axis 1, where theta1 of the fold gap's arm swings
+    within the span (at the fold itself, with a vertical approach, it is not fixed by the
+    direction of P at all but by the position of O4)."""
+    d7 = K[L.D7]
+    ox = p[0] - d7 * a[0]
+    oy = p[1] - d7 * a[1]
+    kw = abs(K[L.KW])
+    lo, hi = _fold_span_u(K)
+    uf = _u_fold(K)
+    o2 = ox * ox + oy * oy
+    u = uf + lo
+    if o2 > 0.0:
+        u = min(uf + hi, max(uf + lo, K[L.KW] * (ox * a[0] + oy * a[1]) / o2))
+    hx = u * ox - K[L.KW] * a[0]
+    hy = u * oy - K[L.KW] * a[1]
+    return math.hypot(hx, hy) <= FOLD_AXIS_NEAR * (kw + abs(u) * K[L.SCALE])
+
+
+@njit
+def _fold_axis_sw(t1, p, a, K):
+    """``sw`` (:func:`_fold_gap`) of the u at which the scaled virtual centre ``u O - KW a`` lies in
+    the arm plane at theta1 (DH; the plane's offset scaled by u too): the plane condition is
+    linear in u. Returns (sw, ok); ok is False outside the fold span."""
+    c1 = math.cos(t1)
+    s1 = math.sin(t1)
+    d7 = K[L.D7]
+    an = -s1 * a[0] + c1 * a[1]
+    on = -s1 * (p[0] - d7 * a[0]) + c1 * (p[1] - d7 * a[1]) + K[L.EPS1] * K[L.B]
+    u = 0.0
+    if an != 0.0:
+        if on == 0.0:
+            return 0.0, False
+        u = K[L.KW] * an / on
+    du = u - _u_fold(K)
+    lo, hi = _fold_span_u(K)
+    if lo == 0.0 and -FOLD_AXIS_CLAMP <= du < 0.0:
+        # just beyond the fold (u is kw an / on, an the approach's rounding when it is along axis
+        # 1): the fold itself, where the solutions of a pose made there lie
+        du = 0.0
+    if not lo <= du <= hi:
+        return 0.0, False
+    return (math.sqrt(du) if du >= 0.0 else -math.sqrt(-du)), True
+
+
+@njit
+def _fold_axis_gap(t1, p, a, elbow, K, th):
+    """The fold gap (:func:`_fold_gap`) as a function of theta1 (DH) on the elbow branch
+    ``elbow``: u from the plane condition (:func:`_fold_axis_sw`), the arm in that plane. Where
+    the approach is (nearly) parallel to axis 1 the scaled virtual centre is (nearly) on it near
+    the fold, and theta1 of the fold gap's arm swings fast with u (at the fold itself a vertical
+    approach leaves theta1 to the position of O4: the pose's solutions there form no branch of
+    u at all); in theta1 they stay apart. Returns (gap, ok)."""
+    sw, ok = _fold_axis_sw(t1, p, a, K)
+    if not ok:
+        return 0.0, False
+    return _fold_gap(sw, p, a, 1.0, elbow, K, th, t1, True)
 
 
 @njit
@@ -1021,6 +1119,12 @@ def _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count
     if abs(front) == 2.0:
         return _fold_candidate(t, p, a, 0.5 * front, elbow, R07, Td, K, hint, has_hint, out, count,
                                filt, ws, mats)
+    if front == 3.0:
+        sw, ok = _fold_axis_sw(t, p, a, K)
+        if not ok:
+            return count
+        return _fold_candidate(sw, p, a, 1.0, elbow, R07, Td, K, hint, has_hint, out, count, filt,
+                               ws, mats, t, True)
     th = ws[_TH:_TH + _NTH]
     if front == 0.0:
         _, ok = _shoulder_gap(t, p, a, elbow, K, th)  # the arm of the root, into th; theta5 th[6]
