@@ -426,27 +426,42 @@ def _angle(th, i):
 
 
 @njit
-def _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
-    """Complete DH theta1..3 with the wrist bent by ``t5`` >= 0 (its cosine ``c5`` and sine
-    ``s5``); accept every exact solution (with ``filt`` >= 0, only those that may have its
-    indicators: see :func:`solve_config`)."""
-    margin = _filter_margin(K)
-    if filt >= 0:
-        if not (_may_match(0, th[0], th[3], filt >> 2, margin, K)
-                and _may_match(2, th[2], th[5], (filt >> 1) & 1, margin, K)):
-            return count
+def _arm_may_match(th, filt, margin, K):
+    """Whether the arm of ``th`` (DH cosines and sines of theta1..3, see :func:`_arm_from_psi`)
+    may have the Arm and Elbow indicators of ``filt`` (see :func:`solve_config`) once polished."""
+    return (_may_match(0, th[0], th[3], filt >> 2, margin, K)
+            and _may_match(2, th[2], th[5], (filt >> 1) & 1, margin, K))
+
+
+@njit
+def _arm_frame(th, R07, K, ws, mats):
+    """The arm of ``th`` (DH cosines and sines of theta1..3) made into frame 3 (``mats[_M]``),
+    the wrist's target rotation for the flange ``R07`` (``mats[_Q]``, 3 x 3) and the arm's user
+    angles (``q1..q3`` of ``ws[_Q6:_Q6 + 6]``)."""
     M = mats[_M]
     for i in range(4):
         for j in range(4):
             M[i, j] = 1.0 if i == j else 0.0
     for i in range(3):
         dh_step_cs(M, K, L.NDH, L.TRIG + 14, i, th[i], th[3 + i])
-    Q = mats[_Q, :3, :3]
-    wrist_target(M[:3, :3], R07, K, Q)
+    wrist_target(M[:3, :3], R07, K, mats[_Q, :3, :3])
     q = ws[_Q6:_Q6 + 6]
-    qq = ws[_QQ:_QQ + 6]  # q completed with a wrist solution
     for i in range(3):
         q[i] = user_angle(i, _angle(th, i), K)
+
+
+@njit
+def _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Complete DH theta1..3 with the wrist bent by ``t5`` >= 0 (its cosine ``c5`` and sine
+    ``s5``); accept every exact solution (with ``filt`` >= 0, only those that may have its
+    indicators: see :func:`solve_config`)."""
+    margin = _filter_margin(K)
+    if filt >= 0 and not _arm_may_match(th, filt, margin, K):
+        return count
+    _arm_frame(th, R07, K, ws, mats)
+    Q = mats[_Q, :3, :3]
+    q = ws[_Q6:_Q6 + 6]
+    qq = ws[_QQ:_QQ + 6]  # q completed with a wrist solution
     if K[L.DEVIATION] > 0.0 and t5 < STRAIGHT_SHOULDER:
         window = STRAIGHT_SHOULDER if _near_shoulder(th, K) else STRAIGHT_DEVIATING
         # (the bend of the arm's own target: a root clamped to the end of the range is not enough)
@@ -955,19 +970,11 @@ def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, cou
     _, ok = _fold_gap(sw, p, a, front, elbow, K, th, t1, in_plane)
     if not ok:
         return count
-    margin = _filter_margin(K)
-    if filt >= 0:
-        if not (_may_match(0, th[0], th[3], filt >> 2, margin, K)
-                and _may_match(2, th[2], th[5], (filt >> 1) & 1, margin, K)):
-            return count
+    if filt >= 0 and not _arm_may_match(th, filt, _filter_margin(K), K):
+        return count
+    _arm_frame(th, R07, K, ws, mats)
     M = mats[_M]
-    for i in range(4):
-        for j in range(4):
-            M[i, j] = 1.0 if i == j else 0.0
-    for i in range(3):
-        dh_step_cs(M, K, L.NDH, L.TRIG + 14, i, th[i], th[3 + i])
     Q = mats[_Q, :3, :3]
-    wrist_target(M[:3, :3], R07, K, Q)
     # O - O4 in frame 3 turned by alpha3 (frame 4 at theta4 = 0): its azimuth about axis 4
     d7 = K[L.D7]
     vx = p[0] - d7 * a[0] - th[7]
@@ -979,8 +986,6 @@ def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, cou
     az = math.atan2(K[L.NOMINAL_TRIG + 6] * y3 + K[L.NOMINAL_TRIG + 7] * z3, x3)
     q = ws[_Q6:_Q6 + 6]
     qq = ws[_QQ:_QQ + 6]
-    for i in range(3):
-        q[i] = user_angle(i, _angle(th, i), K)
     eps = _fold_eps(sw, K)
     if eps < FOLD_WINDOW:
         count, exact = _accept(_with_fold_wrist(q, Q, math.pi, -1.0, 0.0, az, K, mats, qq), Td, K,
