@@ -1527,28 +1527,18 @@ def _dips_to_zero(r0, r1, r2):
 @njit
 def _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO):
     """Refine the root of the reduced residual bracketed by [va, vb] (``ra``, ``rb`` of opposite
-    signs) by Illinois, each point Gauss-Newton from the one before (``qt``, left at the root)."""
+    signs) by Illinois (:func:`ik7r._kernels.poly.illinois_step`), each point Gauss-Newton from
+    the one before (``qt``, left at the root)."""
     side = 0
     for _ in range(40):
-        v = (va * rb - vb * ra) / (rb - ra)
-        if not (min(va, vb) < v < max(va, vb)):
-            v = 0.5 * (va + vb)
+        v = secant_point(va, vb, ra, rb)
         r, _, ok = _reduced_at(qt, j, v, Td, K, T, J, A, e, g, dq, ZO)
         if not ok:
             return
         dp, dr = residual(T, Td)
         if r == 0.0 or (dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]):
             return
-        if (r > 0.0) == (rb > 0.0):
-            vb, rb = v, r
-            if side == -1:
-                ra *= 0.5
-            side = -1
-        else:
-            va, ra = v, r
-            if side == 1:
-                rb *= 0.5
-            side = 1
+        va, vb, ra, rb, side, _ = illinois_step(va, vb, ra, rb, side, v, r)
         if abs(vb - va) <= 1e-11:
             return  # (the polish of _accept takes it to the last bits)
 
