@@ -19,7 +19,7 @@ import numpy as np
 
 from ..geometry import rotations
 from . import params as L
-from .arm import arm_ik
+from .arm import arm_ik, arm_params, shoulder_angle
 from .fk import dh_step_cs, fk_jacobian, fk_user, polish, pose_error, residual, solve6, user_angle
 from .jit import njit, shared
 from .poly import (
@@ -880,15 +880,9 @@ def _fold_gap(sw, p, a, front, elbow, K, th, t1_in=0.0, in_plane=False):
     (``front`` unused; see :func:`_fold_axis_gap`)."""
     u = _u_fold(K) + sw * abs(sw)  # (sw < 0: u below the fold, scanned for deviating models)
     kw = K[L.KW]
-    a1 = K[L.A1]
-    a2 = K[L.A2]
-    a3 = K[L.A3]
-    b = K[L.B]
+    a1, a2, a3, b, e1, e3, scale = arm_params(K)
     d1 = K[L.D1]
     d4 = K[L.D4]
-    e1 = K[L.EPS1]
-    e3 = K[L.EPS3]
-    scale = K[L.SCALE]
     d7 = K[L.D7]
     ox = p[0] - d7 * a[0]
     oy = p[1] - d7 * a[1]
@@ -909,7 +903,7 @@ def _fold_gap(sw, p, a, front, elbow, K, th, t1_in=0.0, in_plane=False):
         if disc < -(1e-12 * scale * u) ** 2:
             return 0.0, False
         rho = front * math.sqrt(max(disc, 0.0))  # u rho
-        t1 = math.atan2(rho * hy - u * bp * hx, rho * hx + u * bp * hy)
+        t1 = shoulder_angle(rho, hx, hy, u * bp)
     xx = rho - u * a1  # u X: the centre in the arm plane, from the shoulder
     xy = e1 * (hz - u * d1)
     nx = math.hypot(xx, xy)
