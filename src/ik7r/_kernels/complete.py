@@ -515,12 +515,19 @@ def _with_wrist(q, Q, t5, c5, s5, t4_hint, K, mats, qq):
     """``qq``: a copy of ``q`` (arm joints set) completed with the wrist for DH angle ``t5``
     (cosine ``c5``, sine ``s5``)."""
     t4, t7 = wrist_ik_cs(Q, c5, s5, t4_hint, K, mats[_WR, :3, :3])
+    _completed(q, t4, t5, t7, K, qq)
+    return qq
+
+
+@njit
+def _completed(q, t4, t5, t7, K, qq):
+    """Make ``qq`` a copy of ``q`` (arm joints set) with the wrist's DH angles ``t4``, ``t5``,
+    ``t7`` as user angles."""
     for i in range(6):
         qq[i] = q[i]
     qq[3] = user_angle(3, t4, K)
     qq[4] = user_angle(4, t5, K)
     qq[5] = user_angle(6, t7, K)
-    return qq
 
 
 @njit
@@ -1013,11 +1020,7 @@ def _with_fold_wrist(q, Q, t5, c5, s5, az, K, mats, qq):
     W = mats[_WR, :3, :3]
     wrist_rotation_cs(c5, s5, K, W)
     t7 = wrist_t7(Q, c4, s4, W)
-    for i in range(6):
-        qq[i] = q[i]
-    qq[3] = user_angle(3, t4, K)
-    qq[4] = user_angle(4, t5, K)
-    qq[5] = user_angle(6, t7, K)
+    _completed(q, t4, t5, t7, K, qq)
     return qq
 
 
