@@ -105,9 +105,10 @@ SCAN_NEAR_DEVIATING = 1e-2
 #: the polynomial.
 FOLD_NEAR = 0.02
 FOLD_SPAN = 0.05
-#: ... and where the scaled virtual centre passes this close to axis 1 (relative to KW and the
-#: robot's size; the approach nearly parallel to axis 1) the fold gap is scanned in theta1 too.
-FOLD_AXIS_NEAR = 0.05
+#: ... and where the scaled virtual centre at the fold is this close to axis 1 (relative to KW
+#: and the robot's size; the approach nearly parallel to axis 1) the fold gap is scanned in
+#: theta1 too.
+FOLD_AXIS_NEAR = 0.01
 #: ... where u up to this below the fold is taken at the fold (see :func:`_fold_axis_sw`).
 FOLD_AXIS_CLAMP = 1e-9
 
@@ -1055,24 +1056,16 @@ def _fold_span_u(K):
 
 @njit
 def _fold_near_axis(p, a, K):
-    """Whether the scaled virtual centre ``h(u) = u O - KW a`` (``u P``, O the centre of joint 6)
-    passes within FOLD_AXIS_NEAR (relative to ``KW + |u| scale``) of axis 1 for some u of the
-    fold span: the approach (nearly) parallel to axis 1, where theta1 of the fold gap's arm swings
-    within the span (at the fold itself, with a vertical approach, it is not fixed by the
-    direction of P at all but by the position of O4)."""
+    """Whether the scaled virtual centre ``u P = u O - KW a`` (O the centre of joint 6) of the
+    fully bent wrist (u = cos(2 beta)) lies within FOLD_AXIS_NEAR (relative to ``KW + |u|
+    scale``) of axis 1: the approach (nearly) parallel to axis 1, where theta1 of the fold gap's
+    arm swings next to the fold (and at the fold itself, with a vertical approach, is fixed not
+    by the direction of P but by the position of O4)."""
+    u = _u_fold(K)
     d7 = K[L.D7]
-    ox = p[0] - d7 * a[0]
-    oy = p[1] - d7 * a[1]
-    kw = abs(K[L.KW])
-    lo, hi = _fold_span_u(K)
-    uf = _u_fold(K)
-    o2 = ox * ox + oy * oy
-    u = uf + lo
-    if o2 > 0.0:
-        u = min(uf + hi, max(uf + lo, K[L.KW] * (ox * a[0] + oy * a[1]) / o2))
-    hx = u * ox - K[L.KW] * a[0]
-    hy = u * oy - K[L.KW] * a[1]
-    return math.hypot(hx, hy) <= FOLD_AXIS_NEAR * (kw + abs(u) * K[L.SCALE])
+    hx = u * (p[0] - d7 * a[0]) - K[L.KW] * a[0]
+    hy = u * (p[1] - d7 * a[1]) - K[L.KW] * a[1]
+    return math.hypot(hx, hy) <= FOLD_AXIS_NEAR * (abs(K[L.KW]) + abs(u) * K[L.SCALE])
 
 
 @njit
