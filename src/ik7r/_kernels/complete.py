@@ -1042,8 +1042,11 @@ def _scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     count = _scan_theta5(0.0, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint,
                          has_hint, out, count, filt, ws, mats, 2.0)
     if _fold_near_axis(p, a, K):
-        # the approach (nearly) along axis 1: the fold gap in theta1 as well
+        # the approach (nearly) along axis 1: the fold gap in theta1 as well, and on a finer grid
+        # next to the fold (two roots there can be within 1e-4 in sw, one cell of the grid above)
         count = _scan_turn(3.0, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+        count = _scan_theta5(0.0, 1e-2 * math.sqrt(FOLD_SPAN), p, a, R07, Td, K, hint, has_hint,
+                             out, count, filt, ws, mats, 2.0)
     return count
 
 
