@@ -37,8 +37,9 @@ import shutil
 import signal
 import tempfile
 import threading
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
+from typing import Any
 
 from .errors import Ik7rError
 
@@ -78,6 +79,21 @@ def describe_os_error(exc: OSError, path) -> str:
     return f"cannot write {path}: {why}"
 
 
+def _set_handlers(names: tuple[str, ...], handler: Callable[[int, Any], Any]) -> dict[int, Any]:
+    """Install ``handler`` for each signal of ``names`` the platform has (one that may not be set
+    here is left alone); returns the handlers it replaced, by signal number."""
+    old = {}
+    for name in names:
+        num = getattr(signal, name, None)
+        if num is None:
+            continue
+        try:
+            old[num] = signal.signal(num, handler)
+        except (ValueError, OSError):  # pragma: no cover - not allowed here
+            pass
+    return old
+
+
 @contextlib.contextmanager
 def _deferred_signals() -> Iterator[None]:
     """Hold SIGINT/SIGTERM/SIGHUP while the block runs (publishing or cleaning up), then deliver
@@ -86,14 +102,7 @@ def _deferred_signals() -> Iterator[None]:
         yield
         return
     pending: list[int] = []
-    names = [s for s in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, s)]
-    old = {}
-    for name in names:
-        num = getattr(signal, name)
-        try:
-            old[num] = signal.signal(num, lambda n, f: pending.append(n))
-        except (ValueError, OSError):  # pragma: no cover - not allowed here
-            pass
+    old = _set_handlers(("SIGINT", "SIGTERM", "SIGHUP"), lambda n, f: pending.append(n))
     try:
         yield
     finally:
@@ -304,15 +313,7 @@ def signals_raise() -> Iterator[None]:
     def handler(signum, frame):
         raise Terminated(signum)
 
-    old = {}
-    for name in ("SIGTERM", "SIGHUP"):
-        num = getattr(signal, name, None)
-        if num is None:
-            continue
-        try:
-            old[num] = signal.signal(num, handler)
-        except (ValueError, OSError):  # pragma: no cover
-            pass
+    old = _set_handlers(("SIGTERM", "SIGHUP"), handler)
     try:
         yield
     finally:

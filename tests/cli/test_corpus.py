@@ -15,6 +15,15 @@ import ik7r
 
 CORPUS = Path(__file__).parent / "corpus"
 
+
+def assert_exit(code, err, status, name, word):
+    """The command ended with exit ``status`` and no traceback; when it failed, stderr names the
+    file ``name`` and says ``word``."""
+    assert_well_behaved(code, err)
+    assert code == status, err
+    if status:
+        assert name in err and word in err, err
+
 # (file, exit status, a word of the message); fk 0 0 0 0 0 0 --robot FILE
 ROBOTS = [
     ("axis_1e200.urdf", 0, ""),  # a long axis is a direction like any other
@@ -55,10 +64,9 @@ ROBOTS = [
 def test_robot_files_at_the_command_line(name, status, word):
     path = CORPUS / "robots" / name
     code, out, err = run_cli("fk", "0", "0", "0", "0", "0", "0", "--robot", path)
-    assert_well_behaved(code, err)
-    assert code == status, err
+    assert_exit(code, err, status, name, word)
     if status:
-        assert len(err.splitlines()) == 1 and name in err and word in err, err
+        assert len(err.splitlines()) == 1, err
     else:
         assert err == "" and "position" in out
 
@@ -127,10 +135,8 @@ PATHS = [
 def test_path_csv_files(name, status, word, tmp_path):
     path = CORPUS / "csv" / name
     code, out, err = run_cli("paint", "path", path, "--no-plots", "--out", tmp_path / "o")
-    assert_well_behaved(code, err)
-    assert code == status, err
+    assert_exit(code, err, status, name, word)
     if status:
-        assert name in err and word in err, err
         assert not (tmp_path / "o").exists()  # bad input leaves nothing
     else:
         assert (tmp_path / "o" / "trajectory.csv").is_file() and (tmp_path / "o" / "report.txt").is_file()
@@ -171,10 +177,8 @@ ARRAYS = [
 @pytest.mark.parametrize("out", ["sols", "sols.npz"])
 def test_batch_array_files(option, name, status, word, out, tmp_path):
     code, stdout, err = run_cli("batch", option, CORPUS / "arrays" / name, "--out", tmp_path / out)
-    assert_well_behaved(code, err)
-    assert code == status, err
+    assert_exit(code, err, status, name, word)
     if status:
-        assert name in err and word in err, err
         assert list(tmp_path.iterdir()) == []  # nothing written, nothing hidden
     else:
         assert (tmp_path / out).exists()

@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 from helpers import dh_link, wrap
+from scipy.optimize import least_squares
 
 import ik7r
 from ik7r.robot import Robot
@@ -133,3 +134,50 @@ def test_folded_wrist_is_returned_once_at_180_deg():
         assert abs(wrap(sols[k, 4] - np.pi)) < 1e-6
         gaps = np.abs(wrap(sols[:, None, :] - sols[None, :, :])).max(axis=-1) + np.eye(len(sols))
         assert gaps.min() > ONE_SOLUTION
+
+
+def vertical_fold_sources(robot, rng, n):
+    """Joint vectors at (or beside) the fold whose approach (tool z, axis 7) is along axis 1: the
+    first half exactly (to 1e-12), the rest tilted from it by 10^U(-14, -2) rad. q5 as in
+    :func:`fold_sources` (alternately exactly +-pi and +-(pi - 10^U(-9, -3))); q3 and q4 are then
+    solved (least squares on the eq. (1) product) to put tool z on the target direction."""
+    out = []
+    while len(out) < n:
+        q = rng.uniform(-np.pi, np.pi, 6)
+        k = len(out)
+        sign = rng.choice([-1.0, 1.0])
+        q[4] = sign * (np.pi if k % 2 == 0 else np.pi - 10.0 ** rng.uniform(-9, -3))
+        tilt = 0.0 if k < n // 2 else 10.0 ** rng.uniform(-14, -2)
+        azimuth = rng.uniform(-np.pi, np.pi)
+        target = math.sin(tilt) * np.array([math.cos(azimuth), math.sin(azimuth)])
+
+        def off(x, q=q, target=target):
+            return eq1_fk(robot, np.r_[q[:2], x, q[4:]])[:2, 2] - target
+
+        q[2:4] = least_squares(off, q[2:4], xtol=1e-15, ftol=1e-15, gtol=1e-15).x
+        if np.abs(off(q[2:4])).max() < 1e-12:
+            out.append(q)
+    return out
+
+
+@pytest.mark.parametrize("name", list(ROBOTS))
+def test_fully_bent_wrist_approach_along_axis_1(name):
+    """Issue 12 item 1, the fold gap's last hole: with the approach along axis 1 the scaled virtual
+    centre at the fold is on axis 1 (theta1 of the fold gap's arm is then rounding noise, or swings
+    within the fold span), and at the fold itself the pose has solutions fixed by the position of
+    O4 rather than by the direction of the virtual centre. Every source is among ik_all's answers,
+    and ik for its configuration (seeded with it) returns an exact solution with its Arm and Elbow
+    indicators."""
+    robot = ROBOTS[name] or ik7r.load_robot()
+    rng = np.random.default_rng(1240 + list(ROBOTS).index(name))
+    misses = []
+    for q in vertical_fold_sources(robot, rng, 16):
+        T = eq1_fk(robot, q)
+        sols = robot.ik_all(T)
+        assert_exact(robot, sols, T)
+        if not found(robot, sols, q, T):
+            misses.append(q.tolist())
+        s = robot.ik(T, int(robot.config_of(q)), seed=q)
+        assert_exact(robot, s[None], T)
+        assert np.array_equal(robot.indicators(s)[:2], robot.indicators(q)[:2])
+    assert misses == []

@@ -16,19 +16,26 @@ from .jit import njit
 
 
 @njit
+def arm_params(K):
+    """The arm's numbers from the kernel parameters ``K``: (a1, a2, a3, b, eps1, eps3, scale)."""
+    return K[L.A1], K[L.A2], K[L.A3], K[L.B], K[L.EPS1], K[L.EPS3], K[L.SCALE]
+
+
+@njit
+def shoulder_angle(rho, px, py, bp):
+    """DH theta1 of the arm plane that holds ``(px, py)`` at ``rho`` (signed: the shoulder
+    branch) along the plane and ``bp = -eps1 b`` (the lateral offset) across it."""
+    return math.atan2(rho * py - bp * px, rho * px + bp * py)
+
+
+@njit
 def arm_ik(px, py, pz, Ld, front, elbow, t1_hint, K):
     """DH angles (theta1, theta2, theta3) placing the point at distance ``Ld`` along axis 4
     on ``(px, py, pz)`` (frame 0). ``front`` (+-1) picks the shoulder branch (+1 reaches
     forward of the shoulder), ``elbow`` (+-1) the elbow branch. On axis 1 (shoulder
     singularity, zero lateral offset) theta1 is ``t1_hint``. Returns ``ok = False`` when the
     point is out of reach (by more than rounding)."""
-    a1 = K[L.A1]
-    a2 = K[L.A2]
-    a3 = K[L.A3]
-    b = K[L.B]
-    e1 = K[L.EPS1]
-    e3 = K[L.EPS3]
-    scale = K[L.SCALE]
+    a1, a2, a3, b, e1, e3, scale = arm_params(K)
     ok = True
     r2 = px * px + py * py
     disc = r2 - b * b
@@ -39,7 +46,7 @@ def arm_ik(px, py, pz, Ld, front, elbow, t1_hint, K):
     rho = front * math.sqrt(disc)
     bp = -e1 * b
     if r2 > (1e-13 * scale) ** 2:
-        t1 = math.atan2(rho * py - bp * px, rho * px + bp * py)
+        t1 = shoulder_angle(rho, px, py, bp)
     else:
         t1 = t1_hint
         rho = front * (px * math.cos(t1) + py * math.sin(t1))

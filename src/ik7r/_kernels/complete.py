@@ -19,7 +19,7 @@ import numpy as np
 
 from ..geometry import rotations
 from . import params as L
-from .arm import arm_ik
+from .arm import arm_ik, arm_params, shoulder_angle
 from .fk import dh_step_cs, fk_jacobian, fk_user, polish, pose_error, residual, solve6, user_angle
 from .jit import njit, shared
 from .poly import (
@@ -120,6 +120,12 @@ SCAN_NEAR_DEVIATING = 1e-2
 #: the polynomial.
 FOLD_NEAR = 0.02
 FOLD_SPAN = 0.05
+#: ... and where the scaled virtual centre at the fold is this close to axis 1 (relative to KW
+#: and the robot's size; the approach nearly parallel to axis 1) the fold gap is scanned in
+#: theta1 too.
+FOLD_AXIS_NEAR = 0.01
+#: ... where u up to this below the fold is taken at the fold (see :func:`_fold_axis_sw`).
+FOLD_AXIS_CLAMP = 1e-9
 
 #: Straight wrist of a model that deviates from the idealised one (see :func:`_straight_family`):
 #: a candidate with theta5 below this (rad) starts a scan of the split q4 over the whole turn,
@@ -505,27 +511,42 @@ def _angle(th, i):
 
 
 @njit
-def _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
-    """Complete DH theta1..3 with the wrist bent by ``t5`` >= 0 (its cosine ``c5`` and sine
-    ``s5``); accept every exact solution (with ``filt`` >= 0, only those that may have its
-    indicators: see :func:`solve_config`)."""
-    margin = _filter_margin(K)
-    if filt >= 0:
-        if not (_may_match(0, th[0], th[3], filt >> 2, margin, K)
-                and _may_match(2, th[2], th[5], (filt >> 1) & 1, margin, K)):
-            return count
+def _arm_may_match(th, filt, margin, K):
+    """Whether the arm of ``th`` (DH cosines and sines of theta1..3, see :func:`_arm_from_psi`)
+    may have the Arm and Elbow indicators of ``filt`` (see :func:`solve_config`) once polished."""
+    return (_may_match(0, th[0], th[3], filt >> 2, margin, K)
+            and _may_match(2, th[2], th[5], (filt >> 1) & 1, margin, K))
+
+
+@njit
+def _arm_frame(th, R07, K, ws, mats):
+    """The arm of ``th`` (DH cosines and sines of theta1..3) made into frame 3 (``mats[_M]``),
+    the wrist's target rotation for the flange ``R07`` (``mats[_Q]``, 3 x 3) and the arm's user
+    angles (``q1..q3`` of ``ws[_Q6:_Q6 + 6]``)."""
     M = mats[_M]
     for i in range(4):
         for j in range(4):
             M[i, j] = 1.0 if i == j else 0.0
     for i in range(3):
         dh_step_cs(M, K, L.NDH, L.TRIG + 14, i, th[i], th[3 + i])
-    Q = mats[_Q, :3, :3]
-    wrist_target(M[:3, :3], R07, K, Q)
+    wrist_target(M[:3, :3], R07, K, mats[_Q, :3, :3])
     q = ws[_Q6:_Q6 + 6]
-    qq = ws[_QQ:_QQ + 6]  # q completed with a wrist solution
     for i in range(3):
         q[i] = user_angle(i, _angle(th, i), K)
+
+
+@njit
+def _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Complete DH theta1..3 with the wrist bent by ``t5`` >= 0 (its cosine ``c5`` and sine
+    ``s5``); accept every exact solution (with ``filt`` >= 0, only those that may have its
+    indicators: see :func:`solve_config`)."""
+    margin = _filter_margin(K)
+    if filt >= 0 and not _arm_may_match(th, filt, margin, K):
+        return count
+    _arm_frame(th, R07, K, ws, mats)
+    Q = mats[_Q, :3, :3]
+    q = ws[_Q6:_Q6 + 6]
+    qq = ws[_QQ:_QQ + 6]  # q completed with a wrist solution
     if K[L.DEVIATION] > 0.0 and t5 < STRAIGHT_SHOULDER:
         window = STRAIGHT_SHOULDER if _near_shoulder(th, K) else STRAIGHT_DEVIATING
         # (the bend of the arm's own target: a root clamped to the end of the range is not enough)
@@ -588,12 +609,19 @@ def _with_wrist(q, Q, t5, c5, s5, t4_hint, K, mats, qq):
     """``qq``: a copy of ``q`` (arm joints set) completed with the wrist for DH angle ``t5``
     (cosine ``c5``, sine ``s5``)."""
     t4, t7 = wrist_ik_cs(Q, c5, s5, t4_hint, K, mats[_WR, :3, :3])
+    _completed(q, t4, t5, t7, K, qq)
+    return qq
+
+
+@njit
+def _completed(q, t4, t5, t7, K, qq):
+    """Make ``qq`` a copy of ``q`` (arm joints set) with the wrist's DH angles ``t4``, ``t5``,
+    ``t7`` as user angles."""
     for i in range(6):
         qq[i] = q[i]
     qq[3] = user_angle(3, t4, K)
     qq[4] = user_angle(4, t5, K)
     qq[5] = user_angle(6, t7, K)
-    return qq
 
 
 @njit
@@ -734,9 +762,12 @@ def _shoulder_gap(t1, p, a, elbow, K, th):
 def _gap(t, p, a, front, elbow, K, th):
     """The bend gap of :func:`_bend_gap` at theta5 = ``t`` on the branch (front, elbow), with
     ``front`` 0 that of :func:`_shoulder_gap` at theta1 = ``t`` on the elbow branch, with
-    ``front`` +-2 the fold gap of :func:`_fold_gap` at ``sw = t`` on the branch (front / 2, elbow)."""
+    ``front`` +-2 the fold gap of :func:`_fold_gap` at ``sw = t`` on the branch (front / 2, elbow),
+    with ``front`` 3 that of :func:`_fold_axis_gap` at theta1 = ``t``."""
     if abs(front) == 2.0:
         return _fold_gap(t, p, a, 0.5 * front, elbow, K, th)
+    if front == 3.0:
+        return _fold_axis_gap(t, p, a, elbow, K, th)
     if front != 0.0:
         return _bend_gap(t, p, a, front, elbow, K, th)
     return _shoulder_gap(t, p, a, elbow, K, th)
@@ -912,6 +943,13 @@ def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
     d = t - K[L.D7]
     if not (0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]):
         return count
+    return _scan_turn(0.0, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+
+
+@njit
+def _scan_turn(front, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Every root of a gap in theta1 (``front`` 0: :func:`_shoulder_gap`, 3: :func:`_fold_axis_gap`)
+    on a grid over the whole turn (:func:`_scan_piece`, nested pieces), both elbow branches."""
     sub = ws[_SUB:_SUB + 2 * SCAN_PIECES]
     for elbow in (1.0, -1.0):
         sub[0] = -math.pi
@@ -919,7 +957,7 @@ def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
         npieces = 1
         j = 0
         while j < npieces:
-            count, npieces = _scan_piece(sub[2 * j], sub[2 * j + 1], sub, npieces, 0.0, elbow,
+            count, npieces = _scan_piece(sub[2 * j], sub[2 * j + 1], sub, npieces, front, elbow,
                                          p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
             j += 1
     return count
@@ -975,7 +1013,7 @@ def _shoulder_exact(t1, t_lo, t_hi, elbow, p, a, R07, Td, K, hint, out, count, w
 
 
 @njit
-def _fold_gap(sw, p, a, front, elbow, K, th):
+def _fold_gap(sw, p, a, front, elbow, K, th, t1_in=0.0, in_plane=False):
     """The fold gap at ``u = cos(2 beta) + sw^2`` (``sw^2 = 2 sin^2(beta) sin^2(eps / 2)``, eps =
     pi - theta5: ``sw >= 0`` grows with the distance from the fully bent wrist) on the arm
     branch (``front``, ``elbow``: +-1); zero exactly at solutions. Finite at the fold, where the
@@ -991,18 +1029,14 @@ def _fold_gap(sw, p, a, front, elbow, K, th):
     symmetric about the bisector of axes 4 and 7), a distance of points that both stay finite:
     the gap is ``|O - O4| / (2 |KW|) - 1``. Writes DH cosines and sines of theta1..3 into
     ``th[:6]`` (as :func:`_arm_from_psi`), theta5 (DH, in [0, pi]) into ``th[6]`` and O4 (frame 0)
-    into ``th[7:10]``. Returns (gap, ok); ok is False where the branch does not reach."""
+    into ``th[7:10]``. Returns (gap, ok); ok is False where the branch does not reach.
+    ``in_plane``: theta1 is ``t1_in`` and the scaled virtual centre is taken in that arm plane
+    (``front`` unused; see :func:`_fold_axis_gap`)."""
     u = _u_fold(K) + sw * abs(sw)  # (sw < 0: u below the fold, scanned for deviating models)
     kw = K[L.KW]
-    a1 = K[L.A1]
-    a2 = K[L.A2]
-    a3 = K[L.A3]
-    b = K[L.B]
+    a1, a2, a3, b, e1, e3, scale = arm_params(K)
     d1 = K[L.D1]
     d4 = K[L.D4]
-    e1 = K[L.EPS1]
-    e3 = K[L.EPS3]
-    scale = K[L.SCALE]
     d7 = K[L.D7]
     ox = p[0] - d7 * a[0]
     oy = p[1] - d7 * a[1]
@@ -1011,15 +1045,19 @@ def _fold_gap(sw, p, a, front, elbow, K, th):
     hy = u * oy - kw * a[1]
     hz = u * oz - kw * a[2]
     lh = u * d4 + kw  # u L
-    r2 = hx * hx + hy * hy
-    if r2 <= (1e-13 * scale * u) ** 2 + (1e-13 * kw) ** 2:
-        return 0.0, False  # the virtual centre (nearly) on axis 1: the shoulder scan's case
-    disc = r2 - (u * b) ** 2
-    if disc < -(1e-12 * scale * u) ** 2:
-        return 0.0, False
-    rho = front * math.sqrt(max(disc, 0.0))  # u rho
     bp = -e1 * b
-    t1 = math.atan2(rho * hy - u * bp * hx, rho * hx + u * bp * hy)
+    if in_plane:
+        t1 = t1_in
+        rho = math.cos(t1) * hx + math.sin(t1) * hy  # u rho (signed: the branch is theta1's)
+    else:
+        r2 = hx * hx + hy * hy
+        if r2 <= (1e-13 * scale * u) ** 2 + (1e-13 * kw) ** 2:
+            return 0.0, False  # the scaled virtual centre (nearly) on axis 1: _fold_axis_gap's
+        disc = r2 - (u * b) ** 2
+        if disc < -(1e-12 * scale * u) ** 2:
+            return 0.0, False
+        rho = front * math.sqrt(max(disc, 0.0))  # u rho
+        t1 = shoulder_angle(rho, hx, hy, u * bp)
     xx = rho - u * a1  # u X: the centre in the arm plane, from the shoulder
     xy = e1 * (hz - u * d1)
     nx = math.hypot(xx, xy)
@@ -1069,29 +1107,22 @@ def _fold_eps(sw, K):
 
 
 @njit
-def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt, ws, mats,
+                    t1=0.0, in_plane=False):
     """Complete the root ``sw`` of the fold gap on the branch (front, elbow) with the wrist and
     accept what is exact: theta5 = +-(pi - eps) (and pi itself when eps < FOLD_WINDOW); theta4
     from the position of O (the centre of joint 6) about axis 4, which stays defined where the
     orientation leaves only theta7 - theta4 (axis 7 folded back parallel to axis 4), then theta7
-    from the orientation."""
+    from the orientation. ``t1``, ``in_plane``: the arm in that plane (:func:`_fold_axis_gap`)."""
     th = ws[_TH:_TH + _NTH]
-    _, ok = _fold_gap(sw, p, a, front, elbow, K, th)
+    _, ok = _fold_gap(sw, p, a, front, elbow, K, th, t1, in_plane)
     if not ok:
         return count
-    margin = _filter_margin(K)
-    if filt >= 0:
-        if not (_may_match(0, th[0], th[3], filt >> 2, margin, K)
-                and _may_match(2, th[2], th[5], (filt >> 1) & 1, margin, K)):
-            return count
+    if filt >= 0 and not _arm_may_match(th, filt, _filter_margin(K), K):
+        return count
+    _arm_frame(th, R07, K, ws, mats)
     M = mats[_M]
-    for i in range(4):
-        for j in range(4):
-            M[i, j] = 1.0 if i == j else 0.0
-    for i in range(3):
-        dh_step_cs(M, K, L.NDH, L.TRIG + 14, i, th[i], th[3 + i])
     Q = mats[_Q, :3, :3]
-    wrist_target(M[:3, :3], R07, K, Q)
     # O - O4 in frame 3 turned by alpha3 (frame 4 at theta4 = 0): its azimuth about axis 4
     d7 = K[L.D7]
     vx = p[0] - d7 * a[0] - th[7]
@@ -1103,13 +1134,14 @@ def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, cou
     az = math.atan2(K[L.NOMINAL_TRIG + 6] * y3 + K[L.NOMINAL_TRIG + 7] * z3, x3)
     q = ws[_Q6:_Q6 + 6]
     qq = ws[_QQ:_QQ + 6]
-    for i in range(3):
-        q[i] = user_angle(i, _angle(th, i), K)
     eps = _fold_eps(sw, K)
     if eps < FOLD_WINDOW:
         count, exact = _accept(_with_fold_wrist(q, Q, math.pi, -1.0, 0.0, az, K, mats, qq), Td, K,
                                out, count, mats, True)
-        if exact:
+        # (done unless the polish left this arm: with the approach along axis 1 the fold has
+        # solutions of its own, which a start beside them may slide to)
+        if exact and max(abs(wrap(qq[0] - q[0])), abs(wrap(qq[1] - q[1])),
+                         abs(wrap(qq[2] - q[2]))) < FOLD_WINDOW:
             return count
     for sgn in (1.0, -1.0):
         t5 = sgn * (math.pi - eps)
@@ -1135,11 +1167,7 @@ def _with_fold_wrist(q, Q, t5, c5, s5, az, K, mats, qq):
     W = mats[_WR, :3, :3]
     wrist_rotation_cs(c5, s5, K, W)
     t7 = wrist_t7(Q, c4, s4, W)
-    for i in range(6):
-        qq[i] = q[i]
-    qq[3] = user_angle(3, t4, K)
-    qq[4] = user_angle(4, t5, K)
-    qq[5] = user_angle(6, t7, K)
+    _completed(q, t4, t5, t7, K, qq)
     return qq
 
 
@@ -1157,8 +1185,76 @@ def _scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
         # by d 1e-4, and it may come back from the other side (u < 0)
         count = _scan_theta5(-math.sqrt(0.02 * (1.0 - _u_fold(K))), 0.0, p, a, R07, Td, K, hint,
                              has_hint, out, count, filt, ws, mats, 2.0)
-    return _scan_theta5(0.0, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint, has_hint,
-                        out, count, filt, ws, mats, 2.0)
+    count = _scan_theta5(0.0, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint,
+                         has_hint, out, count, filt, ws, mats, 2.0)
+    if _fold_near_axis(p, a, K):
+        # the approach (nearly) along axis 1: the fold gap in theta1 as well, and on a finer grid
+        # next to the fold (two roots there can be within 1e-4 in sw, one cell of the grid above)
+        count = _scan_turn(3.0, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+        count = _scan_theta5(0.0, 1e-2 * math.sqrt(FOLD_SPAN), p, a, R07, Td, K, hint, has_hint,
+                             out, count, filt, ws, mats, 2.0)
+    return count
+
+
+@njit
+def _fold_span_u(K):
+    """The span of ``u - cos(2 beta)`` the fold scan covers (see :func:`_scan_fold`)."""
+    lo = -0.02 * (1.0 - _u_fold(K)) if K[L.DEVIATION] > 0.0 else 0.0
+    return lo, FOLD_SPAN * (1.0 + 1e-3) ** 2
+
+
+@njit
+def _fold_near_axis(p, a, K):
+    """Whether the scaled virtual centre ``u P = u O - KW a`` (O the centre of joint 6) of the
+    fully bent wrist (u = cos(2 beta)) lies within FOLD_AXIS_NEAR (relative to ``KW + |u|
+    scale``) of axis 1: the approach (nearly) parallel to axis 1, where theta1 of the fold gap's
+    arm swings next to the fold (and at the fold itself, with a vertical approach, is fixed not
+    by the direction of P but by the position of O4)."""
+    u = _u_fold(K)
+    d7 = K[L.D7]
+    hx = u * (p[0] - d7 * a[0]) - K[L.KW] * a[0]
+    hy = u * (p[1] - d7 * a[1]) - K[L.KW] * a[1]
+    return math.hypot(hx, hy) <= FOLD_AXIS_NEAR * (abs(K[L.KW]) + abs(u) * K[L.SCALE])
+
+
+@njit
+def _fold_axis_sw(t1, p, a, K):
+    """``sw`` (:func:`_fold_gap`) of the u at which the scaled virtual centre ``u O - KW a`` lies in
+    the arm plane at theta1 (DH; the plane's offset scaled by u too): the plane condition is
+    linear in u. Returns (sw, ok); ok is False outside the fold span."""
+    c1 = math.cos(t1)
+    s1 = math.sin(t1)
+    d7 = K[L.D7]
+    an = -s1 * a[0] + c1 * a[1]
+    on = -s1 * (p[0] - d7 * a[0]) + c1 * (p[1] - d7 * a[1]) + K[L.EPS1] * K[L.B]
+    u = 0.0
+    if an != 0.0:
+        if on == 0.0:
+            return 0.0, False
+        u = K[L.KW] * an / on
+    du = u - _u_fold(K)
+    lo, hi = _fold_span_u(K)
+    if lo == 0.0 and -FOLD_AXIS_CLAMP <= du < 0.0:
+        # just beyond the fold (u is kw an / on, an the approach's rounding when it is along axis
+        # 1): the fold itself, where the solutions of a pose made there lie
+        du = 0.0
+    if not lo <= du <= hi:
+        return 0.0, False
+    return (math.sqrt(du) if du >= 0.0 else -math.sqrt(-du)), True
+
+
+@njit
+def _fold_axis_gap(t1, p, a, elbow, K, th):
+    """The fold gap (:func:`_fold_gap`) as a function of theta1 (DH) on the elbow branch
+    ``elbow``: u from the plane condition (:func:`_fold_axis_sw`), the arm in that plane. Where
+    the approach is (nearly) parallel to axis 1 the scaled virtual centre is (nearly) on it near
+    the fold, and theta1 of the fold gap's arm swings fast with u (at the fold itself a vertical
+    approach leaves theta1 to the position of O4: the pose's solutions there form no branch of
+    u at all); in theta1 they stay apart. Returns (gap, ok)."""
+    sw, ok = _fold_axis_sw(t1, p, a, K)
+    if not ok:
+        return 0.0, False
+    return _fold_gap(sw, p, a, 1.0, elbow, K, th, t1, True)
 
 
 @njit
@@ -1167,6 +1263,12 @@ def _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count
     if abs(front) == 2.0:
         return _fold_candidate(t, p, a, 0.5 * front, elbow, R07, Td, K, hint, has_hint, out, count,
                                filt, ws, mats)
+    if front == 3.0:
+        sw, ok = _fold_axis_sw(t, p, a, K)
+        if not ok:
+            return count
+        return _fold_candidate(sw, p, a, 1.0, elbow, R07, Td, K, hint, has_hint, out, count, filt,
+                               ws, mats, t, True)
     th = ws[_TH:_TH + _NTH]
     if front == 0.0:
         _, ok = _shoulder_gap(t, p, a, elbow, K, th)  # the arm of the root, into th; theta5 th[6]
@@ -1600,28 +1702,18 @@ def _dips_to_zero(r0, r1, r2):
 @njit
 def _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO):
     """Refine the root of the reduced residual bracketed by [va, vb] (``ra``, ``rb`` of opposite
-    signs) by Illinois, each point Gauss-Newton from the one before (``qt``, left at the root)."""
+    signs) by Illinois (:func:`ik7r._kernels.poly.illinois_step`), each point Gauss-Newton from
+    the one before (``qt``, left at the root)."""
     side = 0
     for _ in range(40):
-        v = (va * rb - vb * ra) / (rb - ra)
-        if not (min(va, vb) < v < max(va, vb)):
-            v = 0.5 * (va + vb)
+        v = secant_point(va, vb, ra, rb)
         r, _, ok = _reduced_at(qt, j, v, Td, K, T, J, A, e, g, dq, ZO)
         if not ok:
             return
         dp, dr = residual(T, Td)
         if r == 0.0 or (dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]):
             return
-        if (r > 0.0) == (rb > 0.0):
-            vb, rb = v, r
-            if side == -1:
-                ra *= 0.5
-            side = -1
-        else:
-            va, ra = v, r
-            if side == 1:
-                rb *= 0.5
-            side = 1
+        va, vb, ra, rb, side, _ = illinois_step(va, vb, ra, rb, side, v, r)
         if abs(vb - va) <= 1e-11:
             return  # (the polish of _accept takes it to the last bits)
 
