@@ -144,8 +144,16 @@ def _offsets(**sizes):
 # Its small matrices are one block viewed as a stack of 4 x 4 matrices (``mats``, made once per
 # pose: a view of a stack entry costs nothing, a reshape does); these are their indices.
 _T07, _R07, _M, _Q, _T, _WR, _PSI = range(7)
+#: Models that deviate from the idealised one: the starts already followed to the exact model in
+#: this pose and what became of them (see :func:`_tried`), MEMO_SIZE of them (a ring, two per
+#: 4 x 4 entry of the stack from index _MEMO on; their count in the entry _MEMO_N).
+MEMO_SIZE = 64
+MEMO_TOL = 1e-9
+_MEMO = 7
+_MEMO_N = _MEMO + MEMO_SIZE // 2
+_NMATS = _MEMO_N + 1
 _W, WORK_SIZE = _offsets(
-    MATS=7 * 16, P=3, A=3, TH=10, Q6=6, QQ=6,
+    MATS=_NMATS * 16, P=3, A=3, TH=10, Q6=6, QQ=6,
     BLO=_NBRACKETS, BHI=_NBRACKETS, BSURE=_NBRACKETS, FOUND=REFINE_GRID + 2,
     BCOEF=_NBRACKETS * _NB, CAST=_NB, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP, NB=1,
     SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES, FAM=4 * _NFAMILIES, NFAM=1,
@@ -319,11 +327,18 @@ def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
         if K[L.DEVIATION] > 0.0:
             if snap:
                 return count, False
+            # the same start twice (candidates of nearby roots, brackets and scans often are):
+            # the polish would only repeat itself
+            entry, seen = _tried(q, follow, mats)
+            if seen >= 0.0:
+                return count, seen == 1.0
             # follow the solution from the idealised model to the exact one in small steps, so
             # that each candidate lands on its own exact solution even inside a close cluster
             for k in range(L.HOMOTOPY_STEPS if follow else 0):
                 polish(q, Td, K[L.HOMOTOPY + k * L.BASE_SIZE:L.HOMOTOPY + (k + 1) * L.BASE_SIZE], 4)
-            if not polish(q, Td, K, 30):
+            exact = polish(q, Td, K, 30)
+            _remember(entry, exact, mats)
+            if not exact:
                 return count, False
         elif _known(q, out, count, DUP_TOL):
             return count, True  # the solution it would polish to is there (see _known)
@@ -354,6 +369,40 @@ def _on_shoulder_set(q, K):
     x2 = K[L.A2] + K[L.A3] * c3 + e3 * Ld * s3
     y2 = K[L.A3] * s3 - e3 * Ld * c3
     return abs(K[L.A1] + math.cos(t2) * x2 - math.sin(t2) * y2) < SHOULDER_NEAR * K[L.SCALE]
+
+
+def _tried(q, follow, mats):
+    """Look up the start ``q`` of a polish on a model that deviates from the idealised one (see
+    :func:`_accept`) among those tried in this pose: a start within MEMO_TOL (rad, every joint)
+    of one tried with the same ``follow`` lands where that one did (the polish is deterministic
+    and continuous in its start). Returns (entry, outcome): the outcome of the start tried (1
+    exact, 0 not), or -1 and a new entry holding ``q`` (the oldest one when the ring of
+    MEMO_SIZE is full), whose outcome the caller records with :func:`_remember`."""
+    n = int(mats[_MEMO_N, 0, 0])
+    fl = 1.0 if follow else 0.0
+    for k in range(min(n, MEMO_SIZE)):
+        e = mats[_MEMO + k // 2].reshape(16)[8 * (k % 2):8 * (k % 2) + 8]
+        if e[6] != fl or e[7] < 0.0:
+            continue
+        far = 0.0
+        for i in range(6):
+            far = max(far, abs(wrap(e[i] - q[i])))
+        if far <= MEMO_TOL:
+            return k, e[7]
+    k = n % MEMO_SIZE
+    e = mats[_MEMO + k // 2].reshape(16)[8 * (k % 2):8 * (k % 2) + 8]
+    for i in range(6):
+        e[i] = q[i]
+    e[6] = fl
+    e[7] = -1.0
+    mats[_MEMO_N, 0, 0] = n + 1
+    return k, -1.0
+
+
+@njit
+def _remember(k, exact, mats):
+    """Record the outcome of the start in memo entry ``k`` (see :func:`_tried`)."""
+    mats[_MEMO + k // 2].reshape(16)[8 * (k % 2) + 7] = 1.0 if exact else 0.0
 
 
 @njit
@@ -1175,7 +1224,7 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
     """:func:`solve_all` (``filt`` -1) or :func:`solve_config` (``filt`` = 4 arm + 2 elbow +
     wrist) with the caller's work array ``ws`` (WORK_SIZE,): every scratch array of the pose,
     so that a batch allocates once."""
-    mats = ws[_MATS:_MATS + 7 * 16].reshape((7, 4, 4))
+    mats = ws[_MATS:_MATS + _NMATS * 16].reshape((_NMATS, 4, 4))
     T07 = mats[_T07]
     frame07(Td, K, T07)
     p = ws[_P:_P + 3]
@@ -1191,6 +1240,7 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
         a[i] /= na
     roots = ws[_ROOTS:_ROOTS + ROOT_CAP]
     ws[_NFAM] = 0.0
+    mats[_MEMO_N, 0, 0] = 0.0
     nr = _roots(0, p, a, K, Bm, bnorm, roots, ws)
     count = 0
     if nr < 0:
