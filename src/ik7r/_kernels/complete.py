@@ -149,6 +149,11 @@ _T07, _R07, _M, _Q, _T, _WR, _PSI = range(7)
 #: 4 x 4 entry of the stack from index _MEMO on; their count in the entry _MEMO_N).
 MEMO_SIZE = 64
 MEMO_TOL = 1e-9
+#: ... and a start farther than this (relative to the robot's size) from meeting the pose is not
+#: followed: a candidate of the idealised model misses the exact one by about the deviation, so
+#: such a start is no candidate's (a wrong branch; its polish wanders 30 clamped steps, one
+#: 0.1 rad at a time). Measured over 36,000 poses of six robots, 0.005 lost no solution either.
+START_REACH = 0.05
 _MEMO = 7
 _MEMO_N = _MEMO + MEMO_SIZE // 2
 _NMATS = _MEMO_N + 1
@@ -332,6 +337,9 @@ def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
             entry, seen = _tried(q, follow, mats)
             if seen >= 0.0:
                 return count, seen == 1.0
+            if dp > START_REACH * K[L.SCALE]:
+                _remember(entry, False, mats)
+                return count, False
             # follow the solution from the idealised model to the exact one in small steps, so
             # that each candidate lands on its own exact solution even inside a close cluster
             for k in range(L.HOMOTOPY_STEPS if follow else 0):
