@@ -1512,7 +1512,7 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
     """Every exact solution on the branch of the reduced residual (:func:`_reduced_at`) with
     joint ``j`` over [v0, v1], tracked from ``start`` on a grid of ``m`` cells (each point
     Gauss-Newton from the extrapolation of the two before it): sign changes refined by Illinois
-    in ``v``, dips toward zero (tangencies, two roots in one cell) by golden section on the
+    in ``v``, dips toward zero (tangencies, two roots in one cell) by Brent's minimiser on the
     signed residual and split at its bottom; each candidate is verified (polished) on the exact
     forward kinematics and added."""
     T = np.empty((4, 4))
@@ -1559,22 +1559,18 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
               and rs[k - 1] * ra > 0.0 and _dips_to_zero(rs[k - 1], ra, rb)):
             # a dip of |e| without a sign change: a tangency, or two roots within one cell; where
             # the bottom has the other sign, both roots are refined
-            lo = v0 + (v1 - v0) * (k - 1) / m
-            hi = vb
-            gr = 0.5 * (math.sqrt(5.0) - 1.0)
             for i in range(6):
                 qt[i] = qs[k, i]
             sgn = 1.0 if ra > 0.0 else -1.0
-            for _ in range(24):  # the bottom of the signed residual (|e| would stop at a root)
-                x1 = hi - gr * (hi - lo)
-                x2 = lo + gr * (hi - lo)
-                f1, _, _ = _reduced_at(qt, j, x1, Td, K, T, J, A, e, g, dq, ZO)
-                f2, _, _ = _reduced_at(qt, j, x2, Td, K, T, J, A, e, g, dq, ZO)
-                if sgn * f1 < sgn * f2:
-                    hi = x2
-                else:
-                    lo = x1
-            vm = 0.5 * (lo + hi)
+            # the bottom of the signed residual (|e| would stop at a root), by Brent's minimiser
+            st, x = brent_start(v0 + (v1 - v0) * (k - 1) / m, vb)
+            for _ in range(200):
+                f, _, okf = _reduced_at(qt, j, x, Td, K, T, J, A, e, g, dq, ZO)
+                st = brent_take(st, x, sgn * f if okf else np.inf)
+                st, x, done = brent_next(st)
+                if done:
+                    break
+            vm = st[2]
             rm, _, okm = _reduced_at(qt, j, vm, Td, K, T, J, A, e, g, dq, ZO)
             qm = qt.copy()
             count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
