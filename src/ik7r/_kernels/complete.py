@@ -382,6 +382,7 @@ def _on_shoulder_set(q, K):
     return abs(K[L.A1] + math.cos(t2) * x2 - math.sin(t2) * y2) < SHOULDER_NEAR * K[L.SCALE]
 
 
+@njit
 def _tried(q, follow, mats):
     """Look up the start ``q`` of a polish on a model that deviates from the idealised one (see
     :func:`_accept`) among those tried in this pose: a start within MEMO_TOL (rad, every joint)
