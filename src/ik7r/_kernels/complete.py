@@ -165,8 +165,24 @@ def _offsets(**sizes):
 # Its small matrices are one block viewed as a stack of 4 x 4 matrices (``mats``, made once per
 # pose: a view of a stack entry costs nothing, a reshape does); these are their indices.
 _T07, _R07, _M, _Q, _T, _WR, _PSI = range(7)
+#: Models that deviate from the idealised one: the starts already followed to the exact model in
+#: this pose and what became of them (see :func:`_tried`), MEMO_SIZE of them (a ring, two per
+#: 4 x 4 entry of the stack from index _MEMO on; their count in the entry _MEMO_N).
+MEMO_SIZE = 64
+MEMO_TOL = 1e-6  # (rad; 1e-9 and 1e-6 gave the same solutions over 36,000 poses of six robots)
+#: ... and a start farther than this (relative to the robot's size) from meeting the pose is not
+#: followed: a candidate of the idealised model misses the exact one by about the deviation, so
+#: such a start is no candidate's (a wrong branch; its polish wanders 30 clamped steps, one
+#: 0.1 rad at a time). Measured over 36,000 poses of six robots, 0.005 lost no solution either.
+START_REACH = 0.05
+#: ... and its polish gives up when the error stalls for this many Newton steps (see fk.polish;
+#: 3 lost no solution either over those 36,000 poses).
+STALL_PATIENCE = 6
+_MEMO = 7
+_MEMO_N = _MEMO + MEMO_SIZE // 2
+_NMATS = _MEMO_N + 1
 _W, WORK_SIZE = _offsets(
-    MATS=7 * 16, P=3, A=3, TH=10, Q6=6, QQ=6,
+    MATS=_NMATS * 16, P=3, A=3, TH=10, Q6=6, QQ=6,
     BLO=_NBRACKETS, BHI=_NBRACKETS, BSURE=_NBRACKETS, FOUND=REFINE_GRID + 2,
     BCOEF=_NBRACKETS * _NB, CAST=_NB, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP, NB=1,
     SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES, FAM=4 * _NFAMILIES, NFAM=1,
@@ -409,11 +425,21 @@ def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
         if K[L.DEVIATION] > 0.0:
             if snap:
                 return count, False
+            # the same start twice (candidates of nearby roots, brackets and scans often are):
+            # the polish would only repeat itself
+            entry, seen = _tried(q, follow, mats)
+            if seen >= 0.0:
+                return count, seen == 1.0
+            if dp > START_REACH * K[L.SCALE]:
+                _remember(entry, False, mats)
+                return count, False
             # follow the solution from the idealised model to the exact one in small steps, so
             # that each candidate lands on its own exact solution even inside a close cluster
             for k in range(L.HOMOTOPY_STEPS if follow else 0):
                 polish(q, Td, K[L.HOMOTOPY + k * L.BASE_SIZE:L.HOMOTOPY + (k + 1) * L.BASE_SIZE], 4)
-            if not polish(q, Td, K, 30):
+            exact = polish(q, Td, K, 30, False, STALL_PATIENCE)
+            _remember(entry, exact, mats)
+            if not exact:
                 return count, False
         elif _known(q, out, count, DUP_TOL):
             return count, True  # the solution it would polish to is there (see _known)
@@ -444,6 +470,41 @@ def _on_shoulder_set(q, K):
     x2 = K[L.A2] + K[L.A3] * c3 + e3 * Ld * s3
     y2 = K[L.A3] * s3 - e3 * Ld * c3
     return abs(K[L.A1] + math.cos(t2) * x2 - math.sin(t2) * y2) < SHOULDER_NEAR * K[L.SCALE]
+
+
+@njit
+def _tried(q, follow, mats):
+    """Look up the start ``q`` of a polish on a model that deviates from the idealised one (see
+    :func:`_accept`) among those tried in this pose: a start within MEMO_TOL (rad, every joint)
+    of one tried with the same ``follow`` lands where that one did (the polish is deterministic
+    and continuous in its start). Returns (entry, outcome): the outcome of the start tried (1
+    exact, 0 not), or -1 and a new entry holding ``q`` (the oldest one when the ring of
+    MEMO_SIZE is full), whose outcome the caller records with :func:`_remember`."""
+    n = int(mats[_MEMO_N, 0, 0])
+    fl = 1.0 if follow else 0.0
+    for k in range(min(n, MEMO_SIZE)):
+        e = mats[_MEMO + k // 2].reshape(16)[8 * (k % 2):8 * (k % 2) + 8]
+        if e[6] != fl or e[7] < 0.0:
+            continue
+        far = 0.0
+        for i in range(6):
+            far = max(far, abs(wrap(e[i] - q[i])))
+        if far <= MEMO_TOL:
+            return k, e[7]
+    k = n % MEMO_SIZE
+    e = mats[_MEMO + k // 2].reshape(16)[8 * (k % 2):8 * (k % 2) + 8]
+    for i in range(6):
+        e[i] = q[i]
+    e[6] = fl
+    e[7] = -1.0
+    mats[_MEMO_N, 0, 0] = n + 1
+    return k, -1.0
+
+
+@njit
+def _remember(k, exact, mats):
+    """Record the outcome of the start in memo entry ``k`` (see :func:`_tried`)."""
+    mats[_MEMO + k // 2].reshape(16)[8 * (k % 2) + 7] = 1.0 if exact else 0.0
 
 
 @njit
@@ -1459,7 +1520,7 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
     """:func:`solve_all` (``filt`` -1) or :func:`solve_config` (``filt`` = 4 arm + 2 elbow +
     wrist) with the caller's work array ``ws`` (WORK_SIZE,): every scratch array of the pose,
     so that a batch allocates once."""
-    mats = ws[_MATS:_MATS + 7 * 16].reshape((7, 4, 4))
+    mats = ws[_MATS:_MATS + _NMATS * 16].reshape((_NMATS, 4, 4))
     T07 = mats[_T07]
     frame07(Td, K, T07)
     p = ws[_P:_P + 3]
@@ -1475,6 +1536,7 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
         a[i] /= na
     roots = ws[_ROOTS:_ROOTS + ROOT_CAP]
     ws[_NFAM] = 0.0
+    mats[_MEMO_N, 0, 0] = 0.0
     nr = _roots(0, p, a, K, Bm, bnorm, roots, ws)
     count = 0
     if nr < 0:
@@ -1672,7 +1734,11 @@ def _reduced_at(q, j, v, Td, K, T, J, A, e, g, dq, ZO):
         for i in range(6):
             if i != j:
                 q[i] += f * dq[i]
-        done = big < 1e-10  # (Gauss-Newton converges quadratically: one step more is rounding)
+        # after a step below 1e-3 rad the point is within about 1e-6 of the least-squares one
+        # (Gauss-Newton converges quadratically), and the determinant does not see that error to
+        # first order (e moves along the columns of J_other); 1e-2 lost no solution either over
+        # 36,000 poses of six robots
+        done = big < 1e-3
     norm = 0.0
     for r in range(6):
         norm += e[r] * e[r]
@@ -1723,7 +1789,7 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
     """Every exact solution on the branch of the reduced residual (:func:`_reduced_at`) with
     joint ``j`` over [v0, v1], tracked from ``start`` on a grid of ``m`` cells (each point
     Gauss-Newton from the extrapolation of the two before it): sign changes refined by Illinois
-    in ``v``, dips toward zero (tangencies, two roots in one cell) by golden section on the
+    in ``v``, dips toward zero (tangencies, two roots in one cell) by Brent's minimiser on the
     signed residual and split at its bottom; each candidate is verified (polished) on the exact
     forward kinematics and added."""
     T = np.empty((4, 4))
@@ -1770,22 +1836,18 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
               and rs[k - 1] * ra > 0.0 and _dips_to_zero(rs[k - 1], ra, rb)):
             # a dip of |e| without a sign change: a tangency, or two roots within one cell; where
             # the bottom has the other sign, both roots are refined
-            lo = v0 + (v1 - v0) * (k - 1) / m
-            hi = vb
-            gr = 0.5 * (math.sqrt(5.0) - 1.0)
             for i in range(6):
                 qt[i] = qs[k, i]
             sgn = 1.0 if ra > 0.0 else -1.0
-            for _ in range(24):  # the bottom of the signed residual (|e| would stop at a root)
-                x1 = hi - gr * (hi - lo)
-                x2 = lo + gr * (hi - lo)
-                f1, _, _ = _reduced_at(qt, j, x1, Td, K, T, J, A, e, g, dq, ZO)
-                f2, _, _ = _reduced_at(qt, j, x2, Td, K, T, J, A, e, g, dq, ZO)
-                if sgn * f1 < sgn * f2:
-                    hi = x2
-                else:
-                    lo = x1
-            vm = 0.5 * (lo + hi)
+            # the bottom of the signed residual (|e| would stop at a root), by Brent's minimiser
+            st, x = brent_start(v0 + (v1 - v0) * (k - 1) / m, vb)
+            for _ in range(200):
+                f, _, okf = _reduced_at(qt, j, x, Td, K, T, J, A, e, g, dq, ZO)
+                st = brent_take(st, x, sgn * f if okf else np.inf)
+                st, x, done = brent_next(st)
+                if done:
+                    break
+            vm = st[2]
             rm, _, okm = _reduced_at(qt, j, vm, Td, K, T, J, A, e, g, dq, ZO)
             qm = qt.copy()
             count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)

@@ -292,16 +292,22 @@ def solve6(A, b, x):
 
 
 @njit(allocates=True)
-def polish(q, Td, K, max_iter, damped=False):
+def polish(q, Td, K, max_iter, damped=False, patience=0):
     """Newton-Raphson on the full forward kinematics from ``q`` (modified in place).
 
     Returns True when the residual is within the robot's tolerances (``POS_TOL`` in the
     length unit, ``ROT_TOL`` in rad). Never claims success it did not verify. ``damped``:
     where the Jacobian is singular take a damped least-squares step (:func:`_damped_step`)
-    instead of giving up.
+    instead of giving up. ``patience`` > 0: give up when the error (position over the robot's
+    size, or rotation, the larger) has not come down by STALL_RATIO within that many steps (from
+    the first step on): Newton then circles a local minimum of the error, which is no solution.
     """
     return polish_into(q, Td, K, max_iter, np.empty((4, 4)), np.empty((6, 6)), np.empty(6), np.empty(6),
-                       np.empty((7, 6)), damped)
+                       np.empty((7, 6)), damped, patience)
+
+
+#: See :func:`polish`: the error must fall below this fraction of itself every ``patience`` steps.
+STALL_RATIO = 0.9
 
 
 #: Damping of :func:`_damped_step`, relative to the mean squared singular value of the
@@ -344,18 +350,24 @@ def _damped_step(q, Td, K, T, J, e, dq, ZO):
 
 
 @njit
-def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO, damped=False):
+def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO, damped=False, patience=0):
     """:func:`polish` with caller-provided work arrays ``T`` (4, 4), ``J`` (6, 6), ``e``, ``dq``
     (6,) and ``ZO`` (7, 6)."""
     tol_p = K[L.POS_TOL]
     tol_r = K[L.ROT_TOL]
-    for _ in range(max_iter + 1):
+    mark = math.inf
+    for it in range(max_iter + 1):
         fk_jacobian(q, K, T, J, ZO)
         dp, dr = residual(T, Td)
         if dp <= tol_p and dr <= tol_r:
             return True
         if not (dp < 1e300 and dr < 1e300):
             return False
+        if patience > 0 and it % patience == 1 % patience:
+            err = max(dp / K[L.SCALE], dr)
+            if err > STALL_RATIO * mark:
+                return False
+            mark = err
         pose_error(T, Td, e, ZO[:3, :3])  # (ZO is free until the next fk_jacobian)
         if solve6(J, e, dq) < 1e-14 and not (damped and _damped_step(q, Td, K, T, J, e, dq, ZO)):
             return False
