@@ -1734,11 +1734,9 @@ def _reduced_at(q, j, v, Td, K, T, J, A, e, g, dq, ZO):
         for i in range(6):
             if i != j:
                 q[i] += f * dq[i]
-        # after a step below 1e-3 rad the point is within about 1e-6 of the least-squares one
-        # (Gauss-Newton converges quadratically), and the determinant does not see that error to
-        # first order (e moves along the columns of J_other); 1e-2 lost no solution either over
-        # 36,000 poses of six robots
-        done = big < 1e-3
+        # (Gauss-Newton converges quadratically: after a step below 1e-7 the next is rounding;
+        # and the determinant does not change, to first order, when e moves along J_other)
+        done = big < 1e-7
     norm = 0.0
     for r in range(6):
         norm += e[r] * e[r]
