@@ -163,6 +163,12 @@ def build(output_dir: Path = HERE, names: list[str] | None = None) -> dict[str, 
 
     t0, c0 = time.perf_counter(), time.process_time()
     names = list(SIGNATURES) if names is None else names
+    # numba's cache is keyed by each kernel's own source file, not by the files of the kernels it
+    # calls: a cached select.all_rows would keep an edited complete.solve_into compiled into it.
+    # Every kernel is compiled afresh here, so the stale entries go first (the JIT's other
+    # signatures are compiled again on first use, from the current sources)
+    for stale in [*HERE.glob("__pycache__/*.nbi"), *HERE.glob("__pycache__/*.nbc")]:
+        stale.unlink(missing_ok=True)
     stamp_path = Path(output_dir) / STAMP_FILE.name
     stamp_path.unlink(missing_ok=True)  # no stale stamp beside a half-built module
     dispatchers = {}
