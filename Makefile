@@ -17,7 +17,6 @@ $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e ".[test,docs]"
-	-$(BIN)/python -m ik7r._kernels.aot --if-stale
 	touch $(STAMP)
 
 $(COMPILED): $(STAMP) $(KERNELS)
@@ -29,9 +28,8 @@ demo: $(COMPILED)
 
 # ruff, the static types of the public API, every test (with the code of the README, the docs
 # pages and the docstrings), then the documentation site with warnings as errors
-test: $(COMPILED)
-	$(BIN)/ruff check src tests $(wildcard benchmarks) $(wildcard examples) docs/conf.py docs/_ext
-	$(BIN)/python -m mypy
+# (with make -j2, as .ci/run does, ruff and mypy run while the compiled kernels are built)
+test: lint typecheck $(COMPILED)
 	@# the site is built on the second core while pytest runs (pytest is mostly one thread); its
 	@# output is printed after, and either failing fails the target
 	@mkdir -p docs/_build; \
