@@ -1047,18 +1047,10 @@ def _shoulder_exact(t1, t_lo, t_hi, elbow, p, a, R07, Td, K, hint, out, count, w
     _, ok = _shoulder_gap(t1, p, a, elbow, K, th)
     if not ok:
         return count
-    M = mats[_M]
-    for i in range(4):
-        for j in range(4):
-            M[i, j] = 1.0 if i == j else 0.0
-    for i in range(3):
-        dh_step_cs(M, K, L.NDH, L.TRIG + 14, i, th[i], th[3 + i])
+    _arm_frame(th, R07, K, ws, mats)
     Q = mats[_Q, :3, :3]
-    wrist_target(M[:3, :3], R07, K, Q)
     q = ws[_Q6:_Q6 + 6]
     qq = ws[_QQ:_QQ + 6]
-    for i in range(3):
-        q[i] = user_angle(i, _angle(th, i), K)
     t5 = th[6]
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
     v_lo = user_angle(0, t_lo, K)
