@@ -28,8 +28,9 @@ demo: $(COMPILED)
 
 # ruff, the static types of the public API, every test (with the code of the README, the docs
 # pages and the docstrings), then the documentation site with warnings as errors
-# (with make -j2, as .ci/run does, ruff and mypy run while the compiled kernels are built)
-test: lint typecheck $(COMPILED)
+# (ruff and mypy run while the compiled kernels are built, two jobs)
+test: $(STAMP)
+	@$(MAKE) --no-print-directory -j2 lint typecheck $(COMPILED)
 	@# the site is built on the second core while pytest runs (pytest is mostly one thread); its
 	@# output is printed after, and either failing fails the target
 	@mkdir -p docs/_build; \
