@@ -165,3 +165,35 @@ def test_rotation_log_inverts_the_exponential_up_to_pi():
         _kin.rotation_log(R, w)
         assert np.linalg.norm(w) <= np.pi + 1e-12
         np.testing.assert_allclose(Rotation.from_rotvec(w).as_matrix(), R, atol=1e-9)
+
+
+@pytest.mark.parametrize("edge", [0.05, 0.2, 0.45, 0.7])
+def test_brent_minimiser_where_the_function_is_undefined(edge):
+    """Brent's minimiser (``poly.brent_*``, shared by every bracket's minimiser) on a function
+    that is ``+inf`` (undefined) below ``edge``: it finds the least value, on a grid written
+    here, and its plain-Python form raises no floating-point warning (it used to make a parabola
+    through the undefined points: ``inf - inf``)."""
+    import warnings
+
+    def f(x):
+        # numpy scalars, as the kernels' values are (Python floats give nan without a warning)
+        return np.float64(np.inf if x < edge else (x - 0.3) ** 2 + 0.01 * math.sin(9.0 * x))
+
+    start = getattr(_poly.brent_start, "py_func", _poly.brent_start)
+    take = getattr(_poly.brent_take, "py_func", _poly.brent_take)
+    step = getattr(_poly.brent_next, "py_func", _poly.brent_next)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with np.errstate(all="raise"):
+            st, u = start(np.float64(0.0), np.float64(1.0))
+            for _ in range(200):
+                st = take(st, u, f(u))
+                st, u, done = step(st)
+                if done:
+                    break
+    grid = np.linspace(edge, 1.0, 200_001)
+    values = np.array([f(x) for x in grid])
+    assert done
+    # (its tolerance is 2e-9 of the bracket in x, and the slope at most 1 here)
+    assert st[5] <= values.min() + 1e-8, (st[2], grid[values.argmin()])
+    assert abs(st[2] - grid[values.argmin()]) < 1e-4

@@ -573,7 +573,9 @@ def brent_next(st):
     p = 0.0
     q = 0.0
     r = 0.0
-    if abs(e) > tol:  # try a parabola through x, w, v
+    # try a parabola through x, w, v (not through a point where f is undefined: +inf would give
+    # nan, which the tests below reject as well, but with a warning in pure Python)
+    if abs(e) > tol and fw < math.inf and fv < math.inf:
         r = (x - w) * (fx - fv)
         q = (x - v) * (fx - fw)
         p = (x - v) * q - (x - w) * r
