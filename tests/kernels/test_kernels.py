@@ -167,17 +167,19 @@ def test_rotation_log_inverts_the_exponential_up_to_pi():
         np.testing.assert_allclose(Rotation.from_rotvec(w).as_matrix(), R, atol=1e-9)
 
 
+@pytest.mark.parametrize("undefined", [np.inf, np.nan])
 @pytest.mark.parametrize("edge", [0.05, 0.2, 0.45, 0.7])
-def test_brent_minimiser_where_the_function_is_undefined(edge):
+def test_brent_minimiser_where_the_function_is_undefined(edge, undefined):
     """Brent's minimiser (``poly.brent_*``, shared by every bracket's minimiser) on a function
-    that is ``+inf`` (undefined) below ``edge``: it finds the least value, on a grid written
-    here, and its plain-Python form raises no floating-point warning (it used to make a parabola
-    through the undefined points: ``inf - inf``)."""
+    that is undefined below ``edge`` (``+inf``, or NaN as a residual with an imaginary square
+    root gives): it finds the least value, on a grid written here, and its plain-Python form
+    raises no floating-point warning (it used to make a parabola through the undefined points,
+    ``inf - inf``, and a NaN first value stopped it there)."""
     import warnings
 
     def f(x):
         # numpy scalars, as the kernels' values are (Python floats give nan without a warning)
-        return np.float64(np.inf if x < edge else (x - 0.3) ** 2 + 0.01 * math.sin(9.0 * x))
+        return np.float64(undefined if x < edge else (x - 0.3) ** 2 + 0.01 * math.sin(9.0 * x))
 
     start = getattr(_poly.brent_start, "py_func", _poly.brent_start)
     take = getattr(_poly.brent_take, "py_func", _poly.brent_take)
@@ -193,7 +195,31 @@ def test_brent_minimiser_where_the_function_is_undefined(edge):
                     break
     grid = np.linspace(edge, 1.0, 200_001)
     values = np.array([f(x) for x in grid])
+    assert np.isfinite(values).all()
     assert done
     # (its tolerance is 2e-9 of the bracket in x, and the slope at most 1 here)
     assert st[5] <= values.min() + 1e-8, (st[2], grid[values.argmin()])
     assert abs(st[2] - grid[values.argmin()]) < 1e-4
+
+
+@pytest.mark.parametrize("name", ["paper", "irb5400"])
+def test_a_nan_candidate_is_never_accepted(name):
+    """``complete._accept`` (the one gate every candidate passes before it is appended) refuses a
+    candidate whose forward kinematics is NaN, on an exact and on a deviating model: a NaN
+    residual compares false with the tolerance both ways, so the test must ask "within", not
+    "beyond". A regular candidate of the same pose is accepted (the gate is not shut)."""
+    robot = ik7r.load_robot() if name == "paper" else ik7r.load_robot("irb5400")
+    K = robot.kernel_params
+    q0 = np.array([0.3, 0.4, -0.2, 0.5, 0.7, -0.6])
+    Td = np.ascontiguousarray(robot.fk(q0))
+    ws = np.zeros(_complete.WORK_SIZE)
+    mats = ws[_complete._MATS:_complete._MATS + _complete._NMATS * 16].reshape((_complete._NMATS, 4, 4))
+    out = np.zeros((_layout.MAX_SOLUTIONS, 6))
+    for bad in range(6):
+        q = q0.copy()
+        q[bad] = np.nan
+        count, exact = _complete._accept(q, Td, K, out, 0, mats, False, False)
+        assert (count, exact) == (0, False), bad
+    count, exact = _complete._accept(q0.copy(), Td, K, out, 0, mats, False, False)
+    assert (count, exact) == (1, True)
+    assert np.abs(_complete.wrap(out[0] - q0)).max() < 1e-12

@@ -56,8 +56,6 @@ DUP_TOL = 1e-5  # two solutions closer than this (rad, every joint) are one (nea
 # wrist the FK is flat and its exact solutions come as clusters of numerically equal shadows)
 
 
-#: Most candidate roots of one pose: every bracket (24) may give REFINE_GRID + 2 candidates.
-ROOT_CAP = 24 * (REFINE_GRID + 2)
 #: Start (rad) off a singular wrist for polishing models that deviate from the idealised one.
 NEAR_SINGULAR = 2e-3
 #: Near-miss scan of deviating models: grid size, and how close to zero (relative to the
@@ -67,6 +65,10 @@ NEAR_RATIO = 1e-2
 #: ... and, at its refined minimum, for one factor of G at an end of the range (see
 #: :func:`_near_misses`; inside the range a factor's grid minimum is held to NEAR_RATIO as G's)
 NEAR_RATIO_END = 1e-4
+#: Most candidate roots of one pose: every bracket (24) may give REFINE_GRID + 2 candidates, and
+#: on a deviating model the near misses (:func:`_near_misses`) three starts per local minimum of
+#: each of up to three residuals on NEAR_GRID + 1 points (at most NEAR_GRID // 2 + 1 minima each).
+ROOT_CAP = 24 * (REFINE_GRID + 2) + 3 * 3 * (NEAR_GRID // 2 + 1)
 #: solve_config skips candidates whose indicators differ beyond this margin (rad) from a
 #: boundary (larger for deviating models, whose polish moves the joints further).
 FILTER_MARGIN = 1e-3
@@ -287,8 +289,8 @@ def _split_sum(q, total, K, hint, has_hint):
 @njit
 def _straight_damped(qq, Td, K, hint, has_hint, mats):
     """Polish the straight snap ``qq`` of the idealised model on the shoulder set by damped steps
-    (:func:`ik7r._kernels.fk.polish`), in place; True when that reaches an exactly straight
-    solution, then with q1 as the arm set it (the seed's; the continuum of axis 7 on axis 1 turns
+    (:func:`ik7r._kernels.fk.polish`), in place; False when it does not reach an exactly
+    straight point, else True, with q1 as the arm set it (the seed's; the continuum of axis 7 on axis 1 turns
     the wrist's sum with it) and the split of :func:`_split_sum`. (There the arm's root is only
     good to about sqrt(eps), a double root, and the FK is flat: Newton cannot polish the snap, and
     the two bends +-t5 beside it are shadows of the one straight solution.)"""
@@ -403,7 +405,7 @@ def _joined(q0, q1, mid, Td, K, mats):
             mid[i] = q0[i] + f * wrap(q1[i] - q0[i])
         fk_user(mid, K, T)
         dp, dr = residual(T, Td)
-        if dp > K[L.POS_TOL] or dr > K[L.ROT_TOL]:
+        if not (dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]):  # (a NaN is not exact)
             return False
     return True
 
@@ -412,16 +414,29 @@ def _joined(q0, q1, mid, Td, K, mats):
 def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
     """Verify ``q`` on the exact forward kinematics (polishing it if needed) and append it.
 
-    A ``snap`` (theta5 set to exactly 0 or pi) is not polished on a model that deviates from
-    the idealised one: the polish would leave the singular wrist for one of the two solutions
-    beside it, and the caller would stop looking for the other. Returns the new count and
-    whether ``q`` is exact (appended now or already there). ``follow``: ``q`` solves the
-    idealised model, so it can be followed to the exact one (a homotopy). ``mats``: the pose's
-    matrix stack (see :func:`solve_into`)."""
+    Nothing reaches ``out`` that does not meet the pose to the robot's tolerances (a NaN
+    candidate is refused). Returns the new count and whether ``q`` leads to a solution in
+    ``out``: appended now, already there, or (on an exact model) within DUP_TOL of one there,
+    which it would polish to (:func:`_known`). How an inexact ``q`` is polished:
+
+    - on a model that deviates from the idealised one, a start already followed in this pose
+      gives the outcome it gave (:func:`_tried`); one farther than START_REACH of the robot's
+      size from meeting the pose is not followed; otherwise ``q`` is followed from the idealised
+      model to the exact one (``follow``: ``q`` solves the idealised model; a homotopy over
+      HOMOTOPY_STEPS intermediate models) and polished by Newton, giving up after
+      STALL_PATIENCE steps without progress. A ``snap`` (theta5 set to exactly 0 or pi) is not
+      polished there: the polish would leave the singular wrist for one of the two solutions
+      beside it, and the caller would stop looking for the other;
+    - on an exact model, by Newton, damped on the shoulder set when no solution is within
+      SINGULAR_ALONE (:func:`_on_shoulder_set`).
+
+    ``mats``: the pose's matrix stack (see :func:`solve_into`)."""
     T = mats[_T]
     fk_user(q, K, T)
     dp, dr = residual(T, Td)
-    if dp > K[L.POS_TOL] or dr > K[L.ROT_TOL]:
+    if not (dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]):  # (a NaN candidate is not exact)
+        if not (dp < 1e300 and dr < 1e300):
+            return count, False
         if K[L.DEVIATION] > 0.0:
             if snap:
                 return count, False
@@ -1901,7 +1916,7 @@ def _partners(Td, K, out, count, mats):
         if curv == 0.0:
             continue
         t = -2.0 * S[5] / curv
-        if abs(t) > PARTNER_REACH:
+        if not abs(t) <= PARTNER_REACH:
             continue
         for i in range(6):
             qt[i] = x[i] + t * Vt[5, i]

@@ -601,8 +601,11 @@ def brent_next(st):
 @njit
 def brent_take(st, u, fu):
     """Brent's minimiser's state ``st`` with the value ``fu`` at the point ``u`` it asked for
-    (``+inf`` where the function is not defined)."""
+    (``+inf`` where the function is not defined; a NaN counts as that, else it would stop the
+    search at the first point: no value compares below it)."""
     a, b, x, w, v, fx, fw, fv, d, e, tol = st
+    if not fu <= math.inf:
+        fu = math.inf
     if fx == math.inf and u == x and fw == math.inf:  # the first value
         return (a, b, x, x, x, fu, fu, fu, d, e, tol)
     if fu <= fx:

@@ -15,7 +15,7 @@ from .jit import njit, shared
 from .validate import validate_pose
 
 HALF_PI = 0.5 * math.pi
-SINGULAR_WRIST = 1e-9  # |q5| (or |q5| - pi) below this: both Wrist indicators name the pose
+SINGULAR_WRIST = 1e-9  # |q5| below this: both Wrist indicators name the pose
 #: pi - |q5| below this: both Wrist indicators name the pose. Beside the fully bent wrist its two
 #: solutions +-(pi - eps), 2 eps apart, are one solution below DUP_TOL (ik7r._kernels.complete),
 #: which then stands for both.
