@@ -85,8 +85,11 @@ MERGE_WINDOW = 1e-2
 #: whose Jacobian is singular is polished by damped steps (:func:`ik7r._kernels.fk.polish`) when
 #: no solution found lies within this (rad, every joint): there a nearly straight wrist makes
 #: clusters of exact solutions, and axis 7 on axis 1 continua, whose members Newton cannot
-#: polish. Closer to a solution the candidate is a shadow of it (where the FK is that flat, the
-#: poses within about 1e-3 rad of an exact solution are within the tolerance too).
+#: polish. Closer to a solution found, the candidate is taken for a shadow of it and polished by
+#: plain Newton steps (damped steps there merged the candidates beside the fold into the solution
+#: found). That is a measured rule, not a bound: the FK is flat along the cluster, not across it
+#: (1e-3 rad off an exact solution in a random direction misses the pose by 0.2-0.9 mm on the paper
+#: robot), so a second exact solution within 1e-3 rad relies on Newton (docs/guide/edges.md).
 SINGULAR_ALONE = 1e-3
 
 #: Grid of the theta5 scan of an undecided bracket (see :func:`_scan_theta5`), and how close to
