@@ -99,6 +99,13 @@ SCAN_PIECES = 12  # the grid and the pieces (next to branch ends, around dips) i
 #: Pieces narrower than this (relative to 1 + |start|, in their own variable) are not gridded:
 #: one candidate from their sign change or their least |gap| (see :func:`_scan_piece`).
 SCAN_TINY = 1e-10
+#: A dip of a theta5 or fold gap (smooth on its branch) is minimised only until Brent's bracket
+#: is below DIP_EARLY of the dip's two cells, if its least |gap| so far is then above DIP_FLOOR
+#: (rad; twice SHOULDER_DIP, the largest threshold a dip's bottom is compared with): such a dip
+#: gives no candidate. Not for the gaps in theta1 (shoulder set, fold on axis 1): the shoulder
+#: gap's dips can narrow to zero within 1e-5 of their cells (see docs/guide/edges.md, "Speed at the edges").
+DIP_EARLY = 1e-3
+DIP_FLOOR = 0.2
 #: The theta1 scan runs where the line of virtual centres passes this close (relative to the
 #: robot's size) to axis 1.
 SHOULDER_NEAR = 1e-5
@@ -869,12 +876,17 @@ def _gap_root(t0, t1, g0, g1, p, a, front, elbow, K, th):
 
 
 @njit
-def _gap_min(t0, t1, p, a, front, elbow, K, th):
-    """The least |bend gap| in [t0, t1] (Brent's minimiser); (t, |gap|)."""
+def _gap_min(t0, t1, p, a, front, elbow, K, th, floor=0.0):
+    """The least |bend gap| in [t0, t1] (Brent's minimiser); (t, |gap|). ``floor`` > 0: stop
+    once the bracket is below DIP_EARLY of [t0, t1] with the least |gap| so far at or above
+    ``floor`` (the minimum is then only known to be about that high)."""
     st, t = brent_start(t0, t1)
+    early = DIP_EARLY * (t1 - t0)
     for _ in range(200):
         f, ok = _gap(t, p, a, front, elbow, K, th)
         st = brent_take(st, t, abs(f) if ok else np.inf)
+        if floor > 0.0 and st[1] - st[0] < early and st[5] >= floor:
+            break
         st, t, done = brent_next(st)
         if done:
             break
@@ -974,7 +986,9 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
             hi_i = min(m, i + 1)
             t_lo = ta + (tb - ta) * lo_i / m
             t_hi = ta + (tb - ta) * hi_i / m
-            tm, fm = _gap_min(t_lo, t_hi, p, a, front, elbow, K, th)
+            # (the gaps in theta1, front 0 and 3, are minimised to the end: see DIP_FLOOR)
+            tm, fm = _gap_min(t_lo, t_hi, p, a, front, elbow, K, th,
+                              DIP_FLOOR if front != 0.0 and front != 3.0 else 0.0)
             gm, okm = _gap(tm, p, a, front, elbow, K, th)
             if okm and gm * gi < 0.0:
                 for t_end, g_end in ((t_lo, gs[lo_i]), (t_hi, gs[hi_i])):
