@@ -103,7 +103,7 @@ SCAN_TINY = 1e-10
 #: is below DIP_EARLY of the dip's two cells, if its least |gap| so far is then above DIP_FLOOR
 #: (rad; twice SHOULDER_DIP, the largest threshold a dip's bottom is compared with): such a dip
 #: gives no candidate. Not for the gaps in theta1 (shoulder set, fold on axis 1): the shoulder
-#: gap's dips can narrow to zero within 1e-5 of their cells (see docs/guide/edges.md, "Speed at the edges").
+#: gap's dips narrow to zero within 1e-8 of their cells (docs/guide/edges.md, "The tail's time").
 DIP_EARLY = 1e-3
 DIP_FLOOR = 0.2
 #: The theta1 scan runs where the line of virtual centres passes this close (relative to the
