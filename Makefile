@@ -5,8 +5,8 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 # the kernels compiled ahead of time into an extension module (ik7r._kernels.aot), so that no
 # first call compiles and a new process answers without importing numba: built once with the
-# installation and again when a kernel source changes (about 2 minutes on 2 cores). When the
-# build fails (no C compiler), numba's JIT compiles the kernels on first use instead.
+# installation and again when a kernel source changes (75-80 CPU s in one process, 1-2 minutes).
+# When the build fails (no C compiler), numba's JIT compiles the kernels on first use instead.
 COMPILED := $(VENV)/.compiled
 KERNELS  := $(wildcard src/ik7r/_kernels/*.py) src/ik7r/robot/family.py \
             src/ik7r/geometry/rotations.py src/ik7r/geometry/configs.py
@@ -29,14 +29,18 @@ demo: $(COMPILED)
 # ruff, the static types of the public API, every test (with the code of the README, the docs
 # pages and the docstrings), then the documentation site with warnings as errors
 # (ruff and mypy run while the compiled kernels are built, two jobs)
+# pytest runs in TEST_JOBS processes (pytest-xdist), each test file whole in one of them
+# (--dist loadfile: a module's fixtures are computed once); the site is built beside them. See
+# docs/development.md, "Checks", for the times measured.
+TEST_JOBS ?= 2
 test: $(STAMP)
 	@$(MAKE) --no-print-directory -j2 lint typecheck $(COMPILED)
-	@# the site is built on the second core while pytest runs (pytest is mostly one thread); its
-	@# output is printed after, and either failing fails the target
+	@# the site is built while pytest runs; its output is printed after, and either failing
+	@# fails the target
 	@mkdir -p docs/_build; \
 	$(BIN)/python -m sphinx -b html -W --keep-going -q docs docs/_build/html > docs/_build/sphinx.log 2>&1 & \
 	sphinx=$$!; \
-	$(BIN)/python -m pytest; tests=$$?; \
+	$(BIN)/python -m pytest -n $(TEST_JOBS) --dist loadfile --durations=15; tests=$$?; \
 	wait $$sphinx; site=$$?; \
 	echo "sphinx -b html -W (built beside pytest):"; cat docs/_build/sphinx.log; \
 	test $$tests -eq 0 -a $$site -eq 0

@@ -94,6 +94,32 @@ def test_the_stamp_follows_every_kernel_source():
         assert (aot.HERE / name).is_file(), name
 
 
+def test_the_solver_is_compiled_once_for_every_entry_point():
+    # numba types a read-only array apart: entry points that hand the solver arrays typed
+    # differently compile it (and every kernel below it) once each, 35-60 CPU s of the build each
+    _compiled()
+    assert aot.info().get("solver_compiles") == 1, aot.info()
+
+
+def test_read_only_input_gives_the_same_answers(case):
+    # the compiled entry points are typed for the writable arrays the API usually passes; a
+    # read-only pose (an array the API passes on as it is) is read the same
+    _compiled()
+    robot, Q, T = case
+    T = T[:24]
+    frozen = T.copy()
+    frozen.setflags(write=False)
+    for a, b in zip(robot.ik_all_batch(T), robot.ik_all_batch(frozen)):
+        assert np.array_equal(a, b, equal_nan=True)
+    for a, b in zip(robot.ik_batch(T, 5), robot.ik_batch(frozen, 5)):
+        assert np.array_equal(a, b, equal_nan=True)
+    for i in range(0, 24, 4):
+        assert np.array_equal(robot.ik_all(T[i]), robot.ik_all(frozen[i]))
+    q = Q[:24].copy()
+    q.setflags(write=False)
+    assert np.array_equal(robot.fk(q), robot.fk(Q[:24]))
+
+
 def test_fk_and_pose_checks_are_bit_identical(case):
     C = _compiled()
     robot, Q, T = case

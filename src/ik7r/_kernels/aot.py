@@ -41,24 +41,31 @@ STAMP_FILE = HERE / f"{MODULE}.json"
 
 #: Each compiled entry point: (kernel module, argument types, return type). Types: ``f8`` a
 #: float, ``i8`` an int, ``b1`` a bool, ``none`` no value; ``"f8[2]"`` a C-contiguous float64
-#: array of 2 dimensions the kernel writes, ``"f8[2]r"`` one it only reads (any array of that
-#: dtype and dimension, writable or not); ``(i8, b1)`` a tuple.
+#: array of 2 dimensions, ``"f8[2]r"`` one typed read-only; ``(i8, b1)`` a tuple. The compiled
+#: function takes any array of that dtype and dimension, writable or not, and the kernel docstrings
+#: say which it writes. An array is typed as the public API passes it: writable, except the
+#: robot's parameter vector ``K`` (read-only), because numba types a read-only array apart and
+#: compiles a kernel again for each mix. So the solver (``complete.solve_into``) and everything
+#: below it is compiled once for every entry point that calls it (35-60 CPU s each time; the
+#: build records how many, ``tests/kernels/test_aot.py`` wants one), and the kernels the build
+#: leaves in numba's cache are the very ones the JIT fallback, and the tests that compare it with
+#: this module, call.
 SIGNATURES: dict[str, tuple[str, tuple[str, ...], Any]] = {
-    "fk_batch": ("fk", ("f8[2]r", "f8[1]r", "f8[3]"), "none"),
-    "frames_batch": ("fk", ("f8[2]r", "f8[1]r", "f8[4]"), "none"),
-    "validate_pose": ("validate", ("f8[2]r", "f8", "f8[2]", "f8[2]"), "i8"),
-    "validate_poses": ("validate", ("f8[3]r", "f8", "f8[3]", "i1[1]"), "i8"),
-    "ik_all_one": ("select", ("f8[2]r", "f8", "f8[1]r", "f8[2]r", "f8", "f8[1]r", "b1", "b1", "f8[2]",
+    "fk_batch": ("fk", ("f8[2]", "f8[1]r", "f8[3]"), "none"),
+    "frames_batch": ("fk", ("f8[2]", "f8[1]r", "f8[4]"), "none"),
+    "validate_pose": ("validate", ("f8[2]", "f8", "f8[2]", "f8[2]"), "i8"),
+    "validate_poses": ("validate", ("f8[3]", "f8", "f8[3]", "i1[1]"), "i8"),
+    "ik_all_one": ("select", ("f8[2]", "f8", "f8[1]r", "f8[2]", "f8", "f8[1]", "b1", "b1", "f8[2]",
                               "f8[2]"), ("i8", "i8")),
-    "ik_one": ("select", ("f8[2]r", "f8", "f8[1]r", "f8[2]r", "f8", "i8", "i8", "i8", "f8[1]r", "b1", "b1",
+    "ik_one": ("select", ("f8[2]", "f8", "f8[1]r", "f8[2]", "f8", "i8", "i8", "i8", "f8[1]", "b1", "b1",
                           "f8[2]", "f8[1]"), ("i8", "b1")),
-    "config_rows": ("select", ("f8[3]r", "f8[1]r", "f8[2]r", "f8", "i8", "i8", "i8", "f8[2]r", "b1", "b1",
-                               "b1[1]r", "f8[2]", "b1[1]"), "none"),
-    "all_rows": ("select", ("f8[3]r", "f8[1]r", "f8[2]r", "f8", "b1[1]r", "f8[3]", "i8[1]"), "none"),
-    "count_within_limits": ("select", ("f8[2]r", "i8", "f8[1]r"), "i8"),
-    "expand_within_limits": ("select", ("f8[2]r", "i8", "f8[1]r", "f8[2]"), "i8"),
-    "track_path": ("track", ("f8[3]r", "f8[1]r", "f8[2]r", "f8", "i8", "i8", "i8", "f8[1]r", "b1", "b1", "f8",
-                             "b1[1]r", "f8[2]", "b1[1]", "b1[1]"), "i8"),
+    "config_rows": ("select", ("f8[3]", "f8[1]r", "f8[2]", "f8", "i8", "i8", "i8", "f8[2]", "b1", "b1",
+                               "b1[1]", "f8[2]", "b1[1]"), "none"),
+    "all_rows": ("select", ("f8[3]", "f8[1]r", "f8[2]", "f8", "b1[1]", "f8[3]", "i8[1]"), "none"),
+    "count_within_limits": ("select", ("f8[2]", "i8", "f8[1]r"), "i8"),
+    "expand_within_limits": ("select", ("f8[2]", "i8", "f8[1]r", "f8[2]"), "i8"),
+    "track_path": ("track", ("f8[3]", "f8[1]r", "f8[2]", "f8", "i8", "i8", "i8", "f8[1]", "b1", "b1", "f8",
+                             "b1[1]", "f8[2]", "b1[1]", "b1[1]"), "i8"),
 }
 
 #: Source files whose code (or constants) the compiled module holds: every kernel module (this
@@ -208,7 +215,11 @@ def build(output_dir: Path = HERE, names: list[str] | None = None) -> dict[str, 
         pycc_compiler.compile_extra = compile_extra
     import numba
 
+    from .complete import solve_into
+
     record = {"stamp": source_stamp(), "entry_points": names, "numba": numba.__version__,
+              # the solver's typings compiled (one when its callers pass it the same types)
+              "solver_compiles": len(solve_into.overloads),
               "seconds": round(time.perf_counter() - t0, 1),
               "cpu_seconds": round(time.process_time() - c0, 1),
               "built": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())}
@@ -232,7 +243,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if "--child" not in argv:
         print("ik7r: compiling the kernels into an extension module (once per installation, "
-              "about 2 minutes on 2 cores)", file=sys.stderr, flush=True)
+              "about 1-2 minutes)", file=sys.stderr, flush=True)
         env = {**os.environ, "IK7R_QUIET": "1", "IK7R_AOT": "0"}
         p = subprocess.run([sys.executable, "-m", "ik7r._kernels.aot", "--child"], env=env)
         if p.returncode != 0:
