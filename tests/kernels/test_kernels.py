@@ -260,3 +260,48 @@ def test_gap_dips_stop_early_only_far_from_zero(name):
                         assert early[1] >= _complete.DIP_FLOOR
                         assert full[1] >= _complete.SHOULDER_DIP, (Q, front, elbow, i, full)
     assert stopped > 0
+
+
+@pytest.mark.parametrize("name", ["paper", "irb5400"])
+def test_gap_reaches_is_the_gaps_ok(name):
+    """``_gap_reaches`` (the cheap predicate of the bisections for arm branch ends) is the ``ok``
+    of ``_gap`` itself, on a grid of each bend gap (theta5 on [0, pi], theta1 on the whole turn)
+    and at every midpoint of a bisection for a branch end of that grid (where the two differ
+    only in the last bits, if at all); both values occur."""
+    robot = ik7r.load_robot() if name == "paper" else ik7r.load_robot(name)
+    K = robot.kernel_params
+    rng = np.random.default_rng(11)
+    Q = rng.uniform(-np.pi, np.pi, (60, 6))
+    T07 = np.empty((4, 4))
+    th = np.empty(_complete._NTH)
+    seen = set()
+    ends = 0
+    for Td in robot.fk(Q):
+        _complete.frame07(Td, K, T07)
+        p = T07[:3, 3].copy()
+        a = T07[:3, 2] / np.linalg.norm(T07[:3, 2])
+        for front, lo, hi in ((1.0, 0.0, np.pi), (-1.0, 0.0, np.pi), (0.0, -np.pi, np.pi)):
+            for elbow in (1.0, -1.0):
+                grid = np.linspace(lo, hi, 65)
+
+                def both(t, p=p, a=a, front=front, elbow=elbow):
+                    ok = _complete._gap(t, p, a, front, elbow, K, th)[1]
+                    assert _complete._gap_reaches(t, p, a, front, elbow, K, th) == ok, (front, elbow, t)
+                    seen.add(ok)
+                    return ok
+
+                oks = [both(t) for t in grid]
+                for i in range(64):
+                    if oks[i] == oks[i + 1]:
+                        continue
+                    ends += 1
+                    t_in, t_out = (grid[i], grid[i + 1]) if oks[i] else (grid[i + 1], grid[i])
+                    for _ in range(60):
+                        tm = 0.5 * (t_in + t_out)
+                        if tm in (t_in, t_out):
+                            break
+                        if both(tm):
+                            t_in = tm
+                        else:
+                            t_out = tm
+    assert seen == {True, False} and ends > 0
