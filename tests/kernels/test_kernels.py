@@ -225,25 +225,29 @@ def test_a_nan_candidate_is_never_accepted(name):
     assert np.abs(_complete.wrap(out[0] - q0)).max() < 1e-12
 
 
+def _gap_poses(name, seed, n):
+    """(K, p, a, th) of ``n`` uniform poses of the robot ``name`` (seed ``seed``): the kernel
+    parameters, the pose's point and approach in frame 0 as the gaps take them, a work array."""
+    robot = ik7r.load_robot() if name == "paper" else ik7r.load_robot(name)
+    K = robot.kernel_params
+    Q = np.random.default_rng(seed).uniform(-np.pi, np.pi, (n, 6))
+    T07 = np.empty((4, 4))
+    th = np.empty(_complete._NTH)
+    for Td in robot.fk(Q):
+        _complete.frame07(Td, K, T07)
+        yield K, T07[:3, 3].copy(), T07[:3, 2] / np.linalg.norm(T07[:3, 2]), th
+
+
 @pytest.mark.parametrize("name", ["paper", "irb5400"])
 def test_gap_dips_stop_early_only_far_from_zero(name):
     """The early stop of the dips' minimiser (``DIP_FLOOR``, ``DIP_EARLY``) on the theta5 gap:
     over every dip of its grid on [0, pi] (all four arm branches, 150 poses), a dip stopped
     early would not have come down to SHOULDER_DIP (the largest threshold a dip's bottom is
     compared with) if minimised to the end; and the stop does save work on some dips."""
-    robot = ik7r.load_robot() if name == "paper" else ik7r.load_robot(name)
-    K = robot.kernel_params
-    rng = np.random.default_rng(5)
-    Q = rng.uniform(-np.pi, np.pi, (150, 6))
-    T07 = np.empty((4, 4))
-    th = np.empty(_complete._NTH)
     m = _complete.SCAN_GRID
     grid = np.linspace(0.0, np.pi, m + 1)
     stopped = 0
-    for Td in robot.fk(Q):
-        _complete.frame07(Td, K, T07)
-        p = T07[:3, 3].copy()
-        a = T07[:3, 2] / np.linalg.norm(T07[:3, 2])
+    for K, p, a, th in _gap_poses(name, 5, 150):
         for front in (1.0, -1.0):
             for elbow in (1.0, -1.0):
                 g = np.array([abs(v) if ok else np.inf
@@ -258,5 +262,41 @@ def test_gap_dips_stop_early_only_far_from_zero(name):
                     if early != full:
                         stopped += 1
                         assert early[1] >= _complete.DIP_FLOOR
-                        assert full[1] >= _complete.SHOULDER_DIP, (Q, front, elbow, i, full)
+                        assert full[1] >= _complete.SHOULDER_DIP, (p, a, front, elbow, i, full)
     assert stopped > 0
+
+
+@pytest.mark.parametrize("name", ["paper", "irb5400"])
+def test_gap_reaches_is_the_gaps_ok(name):
+    """``_gap_reaches`` (the cheap predicate of the bisections for arm branch ends) is the ``ok``
+    of ``_gap`` itself, on a grid of each bend gap (theta5 on [0, pi], theta1 on the whole turn)
+    and at every midpoint of a bisection for a branch end of that grid (where the two differ
+    only in the last bits, if at all); both values occur."""
+    seen = set()
+    ends = 0
+    for K, p, a, th in _gap_poses(name, 11, 60):
+        for front, lo, hi in ((1.0, 0.0, np.pi), (-1.0, 0.0, np.pi), (0.0, -np.pi, np.pi)):
+            for elbow in (1.0, -1.0):
+                grid = np.linspace(lo, hi, 65)
+
+                def both(t, K=K, p=p, a=a, th=th, front=front, elbow=elbow):
+                    ok = _complete._gap(t, p, a, front, elbow, K, th)[1]
+                    assert _complete._gap_reaches(t, p, a, front, elbow, K, th) == ok, (front, elbow, t)
+                    seen.add(ok)
+                    return ok
+
+                oks = [both(t) for t in grid]
+                for i in range(64):
+                    if oks[i] == oks[i + 1]:
+                        continue
+                    ends += 1
+                    t_in, t_out = (grid[i], grid[i + 1]) if oks[i] else (grid[i + 1], grid[i])
+                    for _ in range(60):
+                        tm = 0.5 * (t_in + t_out)
+                        if tm in (t_in, t_out):
+                            break
+                        if both(tm):
+                            t_in = tm
+                        else:
+                            t_out = tm
+    assert seen == {True, False} and ends > 0

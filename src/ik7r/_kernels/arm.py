@@ -29,12 +29,12 @@ def shoulder_angle(rho, px, py, bp):
 
 
 @njit
-def arm_ik(px, py, pz, Ld, front, elbow, t1_hint, K):
-    """DH angles (theta1, theta2, theta3) placing the point at distance ``Ld`` along axis 4
-    on ``(px, py, pz)`` (frame 0). ``front`` (+-1) picks the shoulder branch (+1 reaches
-    forward of the shoulder), ``elbow`` (+-1) the elbow branch. On axis 1 (shoulder
-    singularity, zero lateral offset) theta1 is ``t1_hint``. Returns ``ok = False`` when the
-    point is out of reach (by more than rounding)."""
+def arm_reach(px, py, pz, Ld, front, t1_hint, K):
+    """Whether :func:`arm_ik` reaches the point (its ``ok``), without its angles: (rho, xx, xy,
+    c, ok) with ``rho`` the signed distance of the point from axis 1 in the arm plane, ``(xx,
+    xy)`` the point in the plane from axis 2, ``c`` the cosine :func:`arm_ik` takes the elbow's
+    arc cosine of (clamped). The angles' trigonometric calls are left out: a scan that only
+    looks for where an arm branch ends calls this alone."""
     a1, a2, a3, b, e1, e3, scale = arm_params(K)
     ok = True
     r2 = px * px + py * py
@@ -44,12 +44,8 @@ def arm_ik(px, py, pz, Ld, front, elbow, t1_hint, K):
             ok = False
         disc = 0.0
     rho = front * math.sqrt(disc)
-    bp = -e1 * b
-    if r2 > (1e-13 * scale) ** 2:
-        t1 = shoulder_angle(rho, px, py, bp)
-    else:
-        t1 = t1_hint
-        rho = front * (px * math.cos(t1) + py * math.sin(t1))
+    if not r2 > (1e-13 * scale) ** 2:
+        rho = front * (px * math.cos(t1_hint) + py * math.sin(t1_hint))
     xx = rho - a1
     xy = e1 * (pz - K[L.D1])
     m = (xx * xx + xy * xy - a2 * a2 - a3 * a3 - Ld * Ld) / (2.0 * a2)
@@ -59,6 +55,22 @@ def arm_ik(px, py, pz, Ld, front, elbow, t1_hint, K):
         if abs(c) > 1.0 + 1e-12:
             ok = False
         c = max(-1.0, min(1.0, c))
+    return rho, xx, xy, c, ok
+
+
+@njit
+def arm_ik(px, py, pz, Ld, front, elbow, t1_hint, K):
+    """DH angles (theta1, theta2, theta3) placing the point at distance ``Ld`` along axis 4
+    on ``(px, py, pz)`` (frame 0). ``front`` (+-1) picks the shoulder branch (+1 reaches
+    forward of the shoulder), ``elbow`` (+-1) the elbow branch. On axis 1 (shoulder
+    singularity, zero lateral offset) theta1 is ``t1_hint``. Returns ``ok = False`` when the
+    point is out of reach (by more than rounding)."""
+    a1, a2, a3, b, e1, e3, scale = arm_params(K)
+    rho, xx, xy, c, ok = arm_reach(px, py, pz, Ld, front, t1_hint, K)
+    if px * px + py * py > (1e-13 * scale) ** 2:
+        t1 = shoulder_angle(rho, px, py, -e1 * b)
+    else:
+        t1 = t1_hint
     t3 = math.atan2(e3 * Ld, a3) + elbow * math.acos(c)
     c3 = math.cos(t3)
     s3 = math.sin(t3)

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..geometry import rotations
 from . import params as L
-from .arm import arm_ik, arm_params, shoulder_angle
+from .arm import arm_ik, arm_params, arm_reach, shoulder_angle
 from .fk import dh_step_cs, fk_jacobian, fk_user, polish, pose_error, residual, solve6, user_angle
 from .jit import njit, shared
 from .poly import (
@@ -778,6 +778,26 @@ def _solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
 
 
 @njit
+def _bend_centre(t5, p, a, K, t1_hint=0.0, in_plane=False):
+    """The virtual centre of the wrist bent by ``t5`` >= 0 (as :func:`_bend_gap` takes it, with
+    ``t1_hint``, ``in_plane``): (x, d, px, py, pz, ok), ``x = sin(beta) sin(t5 / 2)``, ``d`` the
+    virtual offset; ok is False at the fold of a 45 deg twist (the centre is at infinity)."""
+    x = K[L.SB] * math.sin(0.5 * t5)
+    h = 1.0 - 2.0 * x * x  # cos(phi / 2)
+    if h < 1e-9:
+        return x, 0.0, 0.0, 0.0, 0.0, False
+    d = K[L.KW] / h
+    t = K[L.D7] + d
+    px = p[0] - t * a[0]
+    py = p[1] - t * a[1]
+    if in_plane:
+        ch, sh = math.cos(t1_hint), math.sin(t1_hint)
+        rho = ch * px + sh * py
+        px, py = rho * ch, rho * sh
+    return x, d, px, py, p[2] - t * a[2], True
+
+
+@njit
 def _bend_gap(t5, p, a, front, elbow, K, th, t1_hint=0.0, in_plane=False):
     """The bend gap at wrist angle ``t5`` >= 0 on the arm branch (``front``, ``elbow``: +-1):
     the angle between axis 4 of the arm that places the virtual centre of that bend and the
@@ -789,19 +809,10 @@ def _bend_gap(t5, p, a, front, elbow, K, th, t1_hint=0.0, in_plane=False):
     where the branch does not reach. ``t1_hint``: theta1 when the virtual centre is on axis 1;
     ``th[6]`` gets t5. ``in_plane``: theta1 is ``t1_hint`` (the virtual centre is taken in
     that arm plane: near axis 1 its direction from the axis is rounding noise)."""
-    x = K[L.SB] * math.sin(0.5 * t5)
-    h = 1.0 - 2.0 * x * x  # cos(phi / 2)
-    if h < 1e-9:
+    x, d, px, py, pz, ok = _bend_centre(t5, p, a, K, t1_hint, in_plane)
+    if not ok:
         return 0.0, False  # the fold of a 45 deg twist: the virtual centre is at infinity
-    d = K[L.KW] / h
-    t = K[L.D7] + d
-    px = p[0] - t * a[0]
-    py = p[1] - t * a[1]
-    if in_plane:
-        ch, sh = math.cos(t1_hint), math.sin(t1_hint)
-        rho = ch * px + sh * py
-        px, py = rho * ch, rho * sh
-    t1, t2, t3, ok = arm_ik(px, py, p[2] - t * a[2], K[L.D4] + d, front, elbow, t1_hint, K)
+    t1, t2, t3, ok = arm_ik(px, py, pz, K[L.D4] + d, front, elbow, t1_hint, K)
     if not ok:
         return 0.0, False
     c1, s1 = math.cos(t1), math.sin(t1)
@@ -828,20 +839,48 @@ def _shoulder_gap(t1, p, a, elbow, K, th):
     plane at theta1, which fixes d and so theta5. Near the shoulder singular set (that line
     passes close to axis 1) theta1 swings fast with d, and the residual polynomial's roots
     there merge within its rounding; in theta1 they stay apart. Returns (gap, ok)."""
+    t5, front, ok = _shoulder_bend(t1, p, a, K)
+    if not ok:
+        return 0.0, False
+    return _bend_gap(t5, p, a, front, elbow, K, th, t1, True)
+
+
+@njit
+def _shoulder_bend(t1, p, a, K):
+    """The wrist angle and shoulder branch :func:`_shoulder_gap` takes at theta1 = ``t1``:
+    (t5, front, ok); ok is False where the arm's plane misses the line of virtual centres in
+    the range of d."""
     c1 = math.cos(t1)
     s1 = math.sin(t1)
     an = -s1 * a[0] + c1 * a[1]
     if abs(an) < 1e-12:
-        return 0.0, False
+        return 0.0, 0.0, False
     d = (-s1 * p[0] + c1 * p[1]) / an - K[L.D7]
     if not (K[L.DMIN] <= d <= K[L.DMAX]):
         if K[L.DEVIATION] == 0.0 or not (0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]):
-            return 0.0, False
+            return 0.0, 0.0, False
         d = min(K[L.DMAX], max(K[L.DMIN], d))
     t5 = theta5_cs_of_d(d, K)[0]
     t = K[L.D7] + d
     rho = c1 * (p[0] - t * a[0]) + s1 * (p[1] - t * a[1])
-    return _bend_gap(t5, p, a, 1.0 if rho >= 0.0 else -1.0, elbow, K, th, t1, True)
+    return t5, 1.0 if rho >= 0.0 else -1.0, True
+
+
+@njit
+def _gap_reaches(t, p, a, front, elbow, K, th):
+    """Whether the arm branch of :func:`_gap` reaches at ``t`` (its ``ok``, the same to the last
+    bit), at a fraction of its cost for the bend gaps (no angle of the arm, no gap): the
+    bisections for the ends of arm branches in :func:`_scan_piece` ask only this."""
+    if abs(front) == 2.0 or front == 3.0:
+        return _gap(t, p, a, front, elbow, K, th)[1]
+    t5, t1, in_plane = t, 0.0, front == 0.0
+    if in_plane:
+        t1 = t
+        t5, front, ok = _shoulder_bend(t1, p, a, K)
+        if not ok:
+            return False
+    x, d, px, py, pz, ok = _bend_centre(t5, p, a, K, t1, in_plane)
+    return ok and arm_reach(px, py, pz, K[L.D4] + d, front, t1, K)[4]
 
 
 @njit
@@ -877,22 +916,26 @@ def _gap_root(t0, t1, g0, g1, p, a, front, elbow, K, th):
 
 @njit
 def _gap_min(t0, t1, p, a, front, elbow, K, th, floor=0.0):
-    """The least |bend gap| in [t0, t1] (Brent's minimiser); (t, |gap|). ``floor`` > 0: stop
-    once the bracket is below DIP_EARLY of [t0, t1] with the least |gap| so far at or above
-    ``floor`` (the minimum is then only known to be about that high)."""
+    """The least |bend gap| in [t0, t1] (Brent's minimiser); (t, |gap|, gap, ok) with the gap
+    and its ``ok`` at t (|gap| is inf where not ok). ``floor`` > 0: stop once the bracket is
+    below DIP_EARLY of [t0, t1] with the least |gap| so far at or above ``floor`` (the minimum
+    is then only known to be about that high). (The value at the least point is kept from the
+    search, not evaluated again; ``th`` holds the arm of the last point evaluated.)"""
     st, t = brent_start(t0, t1)
     early = DIP_EARLY * (t1 - t0)
+    fx = 0.0
+    okx = False
     for _ in range(200):
         f, ok = _gap(t, p, a, front, elbow, K, th)
         st = brent_take(st, t, abs(f) if ok else np.inf)
+        if st[2] == t:
+            fx, okx = f, ok
         if floor > 0.0 and st[1] - st[0] < early and st[5] >= floor:
             break
         st, t, done = brent_next(st)
         if done:
             break
-    t = st[2]
-    f, ok = _gap(t, p, a, front, elbow, K, th)
-    return t, abs(f) if ok else np.inf
+    return st[2], abs(fx) if okx else np.inf, fx, okx
 
 
 @njit
@@ -940,7 +983,7 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
         if ok0 and ok1 and g0 * g1 < 0.0:
             t = _gap_root(ta, tb, g0, g1, p, a, front, elbow, K, th)
         else:
-            t, fm = _gap_min(ta, tb, p, a, front, elbow, K, th)
+            t, fm, _, _ = _gap_min(ta, tb, p, a, front, elbow, K, th)
             if not fm < near:
                 return count, npieces
         return _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt,
@@ -959,7 +1002,7 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
                 tm = 0.5 * (t_in + t_out)
                 if tm == t_in or tm == t_out:
                     break
-                if _gap(tm, p, a, front, elbow, K, th)[1]:
+                if _gap_reaches(tm, p, a, front, elbow, K, th):
                     t_in = tm
                 else:
                     t_out = tm
@@ -987,9 +1030,8 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
             t_lo = ta + (tb - ta) * lo_i / m
             t_hi = ta + (tb - ta) * hi_i / m
             # (the gaps in theta1, front 0 and 3, are minimised to the end: see DIP_FLOOR)
-            tm, fm = _gap_min(t_lo, t_hi, p, a, front, elbow, K, th,
-                              DIP_FLOOR if front != 0.0 and front != 3.0 else 0.0)
-            gm, okm = _gap(tm, p, a, front, elbow, K, th)
+            tm, fm, gm, okm = _gap_min(t_lo, t_hi, p, a, front, elbow, K, th,
+                                       DIP_FLOOR if front != 0.0 and front != 3.0 else 0.0)
             if okm and gm * gi < 0.0:
                 for t_end, g_end in ((t_lo, gs[lo_i]), (t_hi, gs[hi_i])):
                     if math.isfinite(g_end) and g_end * gm < 0.0:
