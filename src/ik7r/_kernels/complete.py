@@ -335,9 +335,7 @@ def _add(q, out, count, Td, K, mats):
     for i in range(6):
         q[i] = wrap(q[i])
     for k in range(count):
-        far = 0.0
-        for i in range(6):
-            far = max(far, abs(wrap(out[k, i] - q[i])))
+        far = _far(out[k], q)
         if far <= DUP_TOL or _same_straight(out[k], q, K):
             if _bend(q, K) <= STRAIGHT_EXACT < _bend(out[k], K):
                 for i in range(6):
@@ -355,6 +353,16 @@ def _add(q, out, count, Td, K, mats):
     for i in range(6):
         out[count, i] = q[i]
     return count + 1
+
+
+@njit
+def _far(q0, q1):
+    """The largest wrapped difference of joints 1..6 between ``q0`` and ``q1`` (rad): how two
+    joint vectors are compared throughout (duplicates, the memo of starts, shadows)."""
+    far = 0.0
+    for i in range(6):
+        far = max(far, abs(wrap(q0[i] - q1[i])))
+    return far
 
 
 @njit
@@ -482,7 +490,7 @@ def _on_shoulder_set(q, K):
     joints 2 and 3 to the centre at ``d4 + d(theta5)`` along axis 4)."""
     if K[L.B] != 0.0:
         return False
-    x = K[L.SB] * math.sin(0.5 * abs(wrap(K[L.SIGN + 4] * q[4] + K[L.DH + 19])))
+    x = K[L.SB] * math.sin(0.5 * _bend(q, K))
     h = 1.0 - 2.0 * x * x
     if h < 1e-9:
         return False  # the fold of a 45 deg twist: the virtual centre is at infinity
@@ -511,10 +519,7 @@ def _tried(q, follow, mats):
         e = mats[_MEMO + k // 2].reshape(16)[8 * (k % 2):8 * (k % 2) + 8]
         if e[6] != fl or e[7] < 0.0:
             continue
-        far = 0.0
-        for i in range(6):
-            far = max(far, abs(wrap(e[i] - q[i])))
-        if far <= MEMO_TOL:
+        if _far(e, q) <= MEMO_TOL:
             return k, e[7]
     k = n % MEMO_SIZE
     e = mats[_MEMO + k // 2].reshape(16)[8 * (k % 2):8 * (k % 2) + 8]
@@ -541,10 +546,7 @@ def _known(q, out, count, radius):
     one, whose candidates are followed to the exact model one by one.) With SINGULAR_ALONE:
     see :func:`_accept`."""
     for k in range(count):
-        far = 0.0
-        for i in range(6):
-            far = max(far, abs(wrap(out[k, i] - q[i])))
-        if far <= radius:
+        if _far(out[k], q) <= radius:
             return True
     return False
 
@@ -1668,10 +1670,7 @@ def _merge_folded(out, count):
         if out[s, 4] != math.pi and math.pi - abs(out[s, 4]) < FOLD_WINDOW:
             for e in range(count):
                 if out[e, 4] == math.pi:
-                    dist = 0.0
-                    for j in range(6):
-                        dist = max(dist, abs(wrap(out[s, j] - out[e, j])))
-                    if dist < FOLD_WINDOW:
+                    if _far(out[s], out[e]) < FOLD_WINDOW:
                         shadow = True
                         break
         if not shadow:
@@ -1944,7 +1943,7 @@ def _partners(Td, K, out, count, mats):
     w = 1.0 / K[L.SCALE]
     n0 = count
     for s in range(n0):
-        if abs(wrap(K[L.SIGN + 4] * out[s, 4] + K[L.DH + 19])) < STRAIGHT_DEVIATING:
+        if _bend(out[s], K) < STRAIGHT_DEVIATING:
             continue  # a straight wrist's neighbours: the whole turn is scanned (_straight_family)
         x = out[s].copy()
         fk_jacobian(x, K, T, J, ZO)
