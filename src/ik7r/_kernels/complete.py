@@ -916,17 +916,21 @@ def _gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
     near miss of one factor of the residual polynomial, but the factor of one shoulder branch
     is the product over its two elbow branches, and where the other elbow branch has a simple
     root less than a cell away the factor changes sign and shows no minimum (:func:`_near_misses`
-    looks no deeper than the shoulder branches). Each grid minimum of ``|gap|`` below
+    looks no deeper than the shoulder branches). Over theta5 in [0, pi] (up to the fold span
+    where the fully bent wrist is nearly folded back), each grid minimum of ``|gap|`` below
     GAP_NEAR_GRID (rad) whose cells keep one sign is refined by Brent's minimiser and, when it
     comes below SCAN_NEAR_DEVIATING without crossing zero, completed with the wrist and polished
     on the exact model (its partner: :func:`_partners`). Sign changes are the polynomial's."""
     m = GAP_NEAR_CELLS
     gs = ws[_SCAN:_SCAN + m + 1]
     th = ws[_TH:_TH + _NTH]
+    top = math.pi
+    if _u_fold(K) < FOLD_NEAR:  # (the fold span is the fold gap's: see :func:`_scan_fold`)
+        top = 2.0 * math.asin(math.sqrt(min(1.0, (1.0 - _u_fold(K) - FOLD_SPAN) / (2.0 * K[L.SB] ** 2))))
     for front in (1.0, -1.0):
         for elbow in (1.0, -1.0):
             for i in range(m + 1):
-                g, ok = _bend_gap(math.pi * i / m, p, a, front, elbow, K, th)
+                g, ok = _bend_gap(top * i / m, p, a, front, elbow, K, th)
                 gs[i] = g if ok else np.nan
             for i in range(m + 1):
                 # (at an end of the range, the straight or fully bent wrist, the one neighbour
@@ -936,8 +940,8 @@ def _gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
                         and abs(g1) <= abs(g0) and abs(g1) <= abs(g2)
                         and (abs(g1) < SCAN_NEAR_DEVIATING or _dips_to_zero(g0, g1, g2))):
                     continue  # (NaN, a branch end, fails the comparisons)
-                tm, fm = _gap_min(math.pi * max(i - 1, 0) / m, math.pi * min(i + 1, m) / m, p, a,
-                                  front, elbow, K, th)
+                tm, fm = _gap_min(top * max(i - 1, 0) / m, top * min(i + 1, m) / m, p, a, front,
+                                  elbow, K, th)
                 gm, okm = _bend_gap(tm, p, a, front, elbow, K, th)
                 if okm and fm < SCAN_NEAR_DEVIATING and gm * g1 > 0.0:
                     count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint, has_hint, out,
