@@ -1015,8 +1015,8 @@ def _gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
                         and abs(g1) <= abs(g0) and abs(g1) <= abs(g2)
                         and (abs(g1) < SCAN_NEAR_DEVIATING or _dips_to_zero(g0, g1, g2))):
                     continue  # (NaN, a branch end, fails the comparisons)
-                tm, fm = _gap_min(top * max(i - 1, 0) / m, top * min(i + 1, m) / m, p, a, front,
-                                  elbow, K, th)
+                tm, fm, _, _ = _gap_min(top * max(i - 1, 0) / m, top * min(i + 1, m) / m, p, a,
+                                        front, elbow, K, th)
                 gm, okm = _bend_gap(tm, p, a, front, elbow, K, th)
                 if okm and fm < SCAN_NEAR_DEVIATING and gm * g1 > 0.0:
                     count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint, has_hint, out,
