@@ -33,7 +33,7 @@ from .bernstein import bernstein_tables  # noqa: F401 (re-exported: its home unt
 from .jit import njit
 
 WMIN = 1e-12  # smallest interval width of the subdivision, in units of the search interval
-ZERO_WIDTH = 1e-6  # an interval zero within rounding is split further while wider than this
+ZERO_WIDTH = 1e-5  # an interval zero within rounding is split further while wider than this
 REFINE_GRID = 32  # grid of an undecided bracket: sign changes and local minima of |f|
 MAX_DEGREE = 16
 #: Size of the work array :func:`isolate` needs (degree up to MAX_DEGREE, a stack of 64).
