@@ -444,6 +444,14 @@ def _joined(q0, q1, mid, Td, K, mats):
     return True
 
 
+#: What the polish of an inexact candidate came to (:func:`_polish_deviating`,
+#: :func:`_polish_exact`): nothing, an exact solution in ``q`` (to be appended), or one already
+#: in the output.
+_MISSED = 0
+_LANDED = 1
+_KNOWN = 2
+
+
 @njit
 def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
     """Verify ``q`` on the exact forward kinematics (polishing it if needed) and append it.
@@ -451,20 +459,12 @@ def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
     Nothing reaches ``out`` that does not meet the pose to the robot's tolerances (a NaN
     candidate is refused). Returns the new count and whether ``q`` leads to a solution in
     ``out``: appended now, already there, or (on an exact model) within DUP_TOL of one there,
-    which it would polish to (:func:`_known`). How an inexact ``q`` is polished:
-
-    - on a model that deviates from the idealised one, a start already followed in this pose
-      gives the outcome it gave (:func:`_tried`); one farther than START_REACH of the robot's
-      size from meeting the pose is not followed; otherwise ``q`` is followed from the idealised
-      model to the exact one (``follow``: ``q`` solves the idealised model; a homotopy over
-      HOMOTOPY_STEPS intermediate models) and polished by Newton, giving up after
-      STALL_PATIENCE steps without progress. A ``snap`` (theta5 set to exactly 0 or pi) is not
-      polished there: the polish would leave the singular wrist for one of the two solutions
-      beside it, and the caller would stop looking for the other;
-    - on an exact model, by Newton, damped on the shoulder set when no solution is within
-      SINGULAR_ALONE (:func:`_on_shoulder_set`).
-
-    ``mats``: the pose's matrix stack (see :func:`solve_into`)."""
+    which it would polish to (:func:`_known`). An inexact ``q`` is polished by
+    :func:`_polish_deviating` on a model that deviates from the idealised one (``follow``: ``q``
+    solves the idealised model), else by :func:`_polish_exact`. A ``snap`` (theta5 set to
+    exactly 0 or pi) is not polished on a deviating model: the polish would leave the singular
+    wrist for one of the two solutions beside it, and the caller would stop looking for the
+    other. ``mats``: the pose's matrix stack (see :func:`solve_into`)."""
     T = mats[_T]
     fk_user(q, K, T)
     dp, dr = residual(T, Td)
@@ -472,30 +472,51 @@ def _accept(q, Td, K, out, count, mats, snap=False, follow=True):
         if not (dp < 1e300 and dr < 1e300):
             return count, False
         if K[L.DEVIATION] > 0.0:
-            if snap:
-                return count, False
-            # the same start twice (candidates of nearby roots, brackets and scans often are):
-            # the polish would only repeat itself
-            entry, seen = _tried(q, follow, mats)
-            if seen >= 0.0:
-                return count, seen == 1.0
-            if dp > START_REACH * K[L.SCALE]:
-                _remember(entry, False, mats)
-                return count, False
-            # follow the solution from the idealised model to the exact one in small steps, so
-            # that each candidate lands on its own exact solution even inside a close cluster
-            for k in range(L.HOMOTOPY_STEPS if follow else 0):
-                polish(q, Td, K[L.HOMOTOPY + k * L.BASE_SIZE:L.HOMOTOPY + (k + 1) * L.BASE_SIZE], 4)
-            exact = polish(q, Td, K, 30, False, STALL_PATIENCE)
-            _remember(entry, exact, mats)
-            if not exact:
-                return count, False
-        elif _known(q, out, count, DUP_TOL):
-            return count, True  # the solution it would polish to is there (see _known)
-        elif not polish(q, Td, K, 8, not snap and _on_shoulder_set(q, K)
-                        and not _known(q, out, count, SINGULAR_ALONE)):
-            return count, False
+            outcome = _MISSED if snap else _polish_deviating(q, dp, Td, K, follow, mats)
+        else:
+            outcome = _polish_exact(q, Td, K, out, count, snap)
+        if outcome != _LANDED:
+            return count, outcome == _KNOWN
     return _add(q, out, count, Td, K, mats), True
+
+
+@njit
+def _polish_deviating(q, dp, Td, K, follow, mats):
+    """Polish the candidate ``q`` (position error ``dp``) onto the exact model of a robot that
+    deviates from the idealised one, in place; returns _MISSED, _LANDED or _KNOWN (see
+    :func:`_accept`). A start already followed in this pose gives the outcome it gave
+    (:func:`_tried`: _KNOWN for a solution found then); one farther than START_REACH of the
+    robot's size from meeting the pose is not followed; otherwise ``q`` is followed from the
+    idealised model to the exact one (when ``follow``: a homotopy over HOMOTOPY_STEPS
+    intermediate models) and polished by Newton, giving up after STALL_PATIENCE steps without
+    progress."""
+    # the same start twice (candidates of nearby roots, brackets and scans often are): the
+    # polish would only repeat itself
+    entry, seen = _tried(q, follow, mats)
+    if seen >= 0.0:
+        return _KNOWN if seen == 1.0 else _MISSED
+    if dp > START_REACH * K[L.SCALE]:
+        _remember(entry, False, mats)
+        return _MISSED
+    # follow the solution from the idealised model to the exact one in small steps, so that
+    # each candidate lands on its own exact solution even inside a close cluster
+    for k in range(L.HOMOTOPY_STEPS if follow else 0):
+        polish(q, Td, K[L.HOMOTOPY + k * L.BASE_SIZE:L.HOMOTOPY + (k + 1) * L.BASE_SIZE], 4)
+    exact = polish(q, Td, K, 30, False, STALL_PATIENCE)
+    _remember(entry, exact, mats)
+    return _LANDED if exact else _MISSED
+
+
+@njit
+def _polish_exact(q, Td, K, out, count, snap):
+    """Polish the candidate ``q`` on an exact family member, in place; returns _MISSED, _LANDED
+    or _KNOWN (see :func:`_accept`). Within DUP_TOL of a solution in ``out[:count]`` it is that
+    solution (:func:`_known`), else Newton polishes it: by damped steps on the shoulder set when
+    no solution found is within SINGULAR_ALONE (:func:`_on_shoulder_set`; not a snap)."""
+    if _known(q, out, count, DUP_TOL):
+        return _KNOWN  # the solution it would polish to is there (see _known)
+    damped = not snap and _on_shoulder_set(q, K) and not _known(q, out, count, SINGULAR_ALONE)
+    return _LANDED if polish(q, Td, K, 8, damped) else _MISSED
 
 
 @njit
