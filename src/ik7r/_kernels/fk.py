@@ -299,8 +299,11 @@ def polish(q, Td, K, max_iter, damped=False, patience=0):
     length unit, ``ROT_TOL`` in rad). Never claims success it did not verify. ``damped``:
     where the Jacobian is singular take a damped least-squares step (:func:`_damped_step`)
     instead of giving up. ``patience`` > 0: give up when the error (position over the robot's
-    size, or rotation, the larger) has not come down by STALL_RATIO within that many steps (from
-    the first step on): Newton then circles a local minimum of the error, which is no solution.
+    size, or rotation, the larger) has not come down by STALL_RATIO within that many full Newton
+    steps (from the first step on): Newton then circles a local minimum of the error, which is
+    no solution. Steps clamped to MAX_POLISH_STEP do not count: a start far off may travel
+    without progress before it converges (one such start, on a rounded 45 deg robot, lost its
+    solution when they counted).
     """
     return polish_into(q, Td, K, max_iter, np.empty((4, 4)), np.empty((6, 6)), np.empty(6), np.empty(6),
                        np.empty((7, 6)), damped, patience)
@@ -356,6 +359,7 @@ def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO, damped=False, patience=0):
     tol_p = K[L.POS_TOL]
     tol_r = K[L.ROT_TOL]
     mark = math.inf
+    travelled = False  # a step since the last mark was clamped to MAX_POLISH_STEP
     for it in range(max_iter + 1):
         fk_jacobian(q, K, T, J, ZO)
         dp, dr = residual(T, Td)
@@ -365,9 +369,10 @@ def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO, damped=False, patience=0):
             return False
         if patience > 0 and it % patience == 1 % patience:
             err = max(dp / K[L.SCALE], dr)
-            if err > STALL_RATIO * mark:
+            if err > STALL_RATIO * mark and not travelled:
                 return False
             mark = err
+            travelled = False
         pose_error(T, Td, e, ZO[:3, :3])  # (ZO is free until the next fk_jacobian)
         if solve6(J, e, dq) < 1e-14 and not (damped and _damped_step(q, Td, K, T, J, e, dq, ZO)):
             return False
@@ -376,6 +381,7 @@ def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO, damped=False, patience=0):
         for i in range(6):
             big = max(big, abs(dq[i]))
         f = 1.0 if big <= MAX_POLISH_STEP else MAX_POLISH_STEP / big
+        travelled = travelled or f < 1.0
         for i in range(6):
             q[i] += f * dq[i]
     return False
