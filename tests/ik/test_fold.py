@@ -181,3 +181,22 @@ def test_fully_bent_wrist_approach_along_axis_1(name):
         assert_exact(robot, s[None], T)
         assert np.array_equal(robot.indicators(s)[:2], robot.indicators(q)[:2])
     assert misses == []
+
+
+@pytest.mark.parametrize("name", ["paper", "b44.8"])
+def test_nearly_folded_pair_returned_both(name):
+    """Beside the fold, farther than 5e-6 rad (beyond one solution, ONE_SOLUTION apart), the two
+    exact wrist solutions +-(180 deg - eps) are both returned, each within 1e-6 of its source,
+    rather than theta5 = 180 deg between them (which meets the pose only within the tolerance;
+    the paper robot at eps = 2.4e-5: 2.5e-11 mm at best, by a 45-digit solve)."""
+    robot = ROBOTS[name] or ik7r.load_robot()
+    rng = np.random.default_rng(1250 + list(ROBOTS).index(name))
+    Q = rng.uniform(-np.pi, np.pi, (30, 6))
+    Q[:, 4] = rng.choice([-1.0, 1.0], 30) * (np.pi - 10.0 ** rng.uniform(math.log10(6e-6), -4, 30))
+    for q in Q:
+        T = eq1_fk(robot, q)
+        sols = robot.ik_all(T)
+        assert_exact(robot, sols, T)
+        assert np.abs(wrap(sols - q)).max(axis=1).min() < 1e-6
+        gaps = np.abs(wrap(sols[:, None, :] - sols[None, :, :])).max(axis=-1) + np.eye(len(sols))
+        assert gaps.min() > ONE_SOLUTION

@@ -81,6 +81,12 @@ FILTER_MARGIN_DEVIATING = 0.1
 #: Window (rad) around theta5 = 0 and pi where solutions are tried at exactly 0 or pi first, and
 #: where nearly folded solutions merge into the folded one.
 FOLD_WINDOW = 1e-4
+#: On the idealised model the wrist is snapped to theta5 = pi only this close (rad) to it: the two
+#: wrist solutions +-(pi - eps) beside the fold are 2 eps apart (every other joint closer), so
+#: below eps = DUP_TOL / 2 they are one solution (:func:`_add`), above it two, each exact, while
+#: theta5 = pi between them only meets the pose within the tolerance (the paper robot at
+#: eps = 2.4e-5: 2.5e-11 mm at best, its segment to either solution inexact by 7e-9 mm).
+FOLD_SNAP = 0.5 * DUP_TOL
 #: A solution with theta5 within this (rad) of 0 is exactly straight: only s4 q4 + s7 q7 counts.
 STRAIGHT_EXACT = 1e-9
 #: Two exact solutions closer than this (rad, every joint) are one when the segment between
@@ -336,6 +342,13 @@ def _straight_damped(qq, Td, K, hint, has_hint, mats):
             break
     _split_sum(qq, K[L.SIGN + 3] * qq[3] + K[L.SIGN + 6] * qq[5], K, hint, has_hint)
     return True
+
+
+@njit
+def _fold_snap(K):
+    """How close (rad) to theta5 = pi a wrist is tried at pi exactly first: FOLD_SNAP on the
+    idealised model, FOLD_WINDOW on a deviating one (whose polish starts off the fold)."""
+    return FOLD_SNAP if K[L.DEVIATION] == 0.0 else FOLD_WINDOW
 
 
 @njit
@@ -702,7 +715,7 @@ def _wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, fi
         if t5 == 0.0:
             return count
         c5, s5 = math.cos(t5), math.sin(t5)
-    if math.pi - t5 < FOLD_WINDOW:
+    if math.pi - t5 < _fold_snap(K):
         # fully bent wrist: the two wrist solutions merge into one, at theta5 = pi exactly
         count, exact = _accept(_with_wrist(q, Q, math.pi, -1.0, 0.0, t4_hint, K, mats, qq), Td,
                                K, out, count, mats, True)
@@ -1346,7 +1359,7 @@ def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, cou
     q = ws[_Q6:_Q6 + 6]
     qq = ws[_QQ:_QQ + 6]
     eps = _fold_eps(sw, K)
-    if eps < FOLD_WINDOW:
+    if eps < _fold_snap(K):
         count, exact = _accept(_with_fold_wrist(q, Q, math.pi, -1.0, 0.0, az, K, mats, qq), Td, K,
                                out, count, mats, True)
         # (done unless the polish left this arm: with the approach along axis 1 the fold has
@@ -1698,8 +1711,8 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
         return _continuum(p, a, R07, Td, K, Bm, bnorm, hint, has_hint, out, count, filt, ws, mats)
     last = -1e300
     folded = False
-    # theta5 grows with d: the roots within FOLD_WINDOW of theta5 = pi lie beyond this d
-    d_fold = d_of_theta5(math.pi - FOLD_WINDOW, K) if _u_fold(K) > 1e-9 else math.inf
+    # theta5 grows with d: the roots within _fold_snap of theta5 = pi lie beyond this d
+    d_fold = d_of_theta5(math.pi - _fold_snap(K), K) if _u_fold(K) > 1e-9 else math.inf
     for k in range(nr):
         d = roots[k]
         if d == last:
