@@ -71,6 +71,23 @@ def test_urdf_with_hostile_attributes(data):
     _typed(lambda: robot_from_urdf_string(text, source="fuzz.urdf"), "fuzz.urdf")
 
 
+def test_urdf_origins_beyond_float_range_are_refused_quietly():
+    """A joint origin whose squared length overflows float64 (1e200 in every coordinate) is
+    refused with a FamilyError naming the bound, and no floating-point warning escapes on the
+    way (the fuzzing above once saw numpy's overflow warning from the chain's size)."""
+    import re
+    import warnings
+
+    import pytest
+
+    for m in re.finditer(r'<origin xyz="([^"]*)"', PAPER_URDF):
+        text = PAPER_URDF[:m.start(1)] + "1e200 1e200 1e200" + PAPER_URDF[m.end(1):]
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            with pytest.raises(ik7r.FamilyError, match="MAX_COORDINATE"):
+                robot_from_urdf_string(text, source="far.urdf")
+
+
 @FUZZ
 @given(data=st.data())
 def test_urdf_with_elements_removed_or_cut(data):

@@ -533,6 +533,12 @@ def _dh_from_lines(points, dirs, sign, T_base_tip, names, size, source):
     return dh, base, tool
 
 
+#: Largest coordinate (in the file's unit) of a joint origin in the zero posture that the loader
+#: computes with: beyond it a squared length overflows float64. (The family refuses lengths far
+#: smaller, by name, when they cannot be solved to the tolerance.)
+MAX_COORDINATE = 1e150
+
+
 def robot_from_chain(chain: UrdfChain) -> Robot:
     """The :class:`~ik7r.robot.model.Robot` of a URDF chain (see the module docstring)."""
     src = chain.source
@@ -554,6 +560,12 @@ def robot_from_chain(chain: UrdfChain) -> Robot:
             k += 1
     T_base_tip = T
     points, dirs = np.array(point_list), np.array(dir_list)
+    far = float(np.abs(np.vstack([points, T_base_tip[:3, 3]])).max())
+    if not far <= MAX_COORDINATE:
+        raise FamilyError(f"{src}: a joint origin lies {far:.6g} from the base (in the file's unit); the "
+                          f"chain's lengths must be within MAX_COORDINATE = {MAX_COORDINATE:g}, beyond which "
+                          "their squares overflow float arithmetic (and far fewer can be solved to the "
+                          "tolerance: see the family's magnitude check)")
     size = float(np.sum(np.linalg.norm(np.diff(np.vstack([points, T_base_tip[:3, 3]]), axis=0), axis=1)))
     size = max(size, 1e-9)
     pref = np.array([_preferred_sign(j.axis) for j in moving])
