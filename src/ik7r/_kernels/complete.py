@@ -44,6 +44,7 @@ from .poly import (
 from .wrist import (
     d_of_theta5,
     theta5_cs_of_d,
+    theta5_cs_of_u,
     theta5_of_bend,
     wrist_ik_cs,
     wrist_rotation_cs,
@@ -1035,7 +1036,7 @@ def _gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
     th = ws[_TH:_TH + _NTH]
     top = math.pi
     if _u_fold(K) < FOLD_NEAR:  # (the fold span is the fold gap's: see :func:`_scan_fold`)
-        top = 2.0 * math.asin(math.sqrt(min(1.0, (1.0 - _u_fold(K) - FOLD_SPAN) / (2.0 * K[L.SB] ** 2))))
+        top = theta5_cs_of_u(_u_fold(K) + FOLD_SPAN, K)[0]
     for front in (1.0, -1.0):
         for elbow in (1.0, -1.0):
             for i in range(m + 1):
@@ -1049,9 +1050,8 @@ def _gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
                         and abs(g1) <= abs(g0) and abs(g1) <= abs(g2)
                         and (abs(g1) < SCAN_NEAR_DEVIATING or _dips_to_zero(g0, g1, g2))):
                     continue  # (NaN, a branch end, fails the comparisons)
-                tm, fm, _, _ = _gap_min(top * max(i - 1, 0) / m, top * min(i + 1, m) / m, p, a,
-                                        front, elbow, K, th)
-                gm, okm = _bend_gap(tm, p, a, front, elbow, K, th)
+                tm, fm, gm, okm = _gap_min(top * max(i - 1, 0) / m, top * min(i + 1, m) / m, p,
+                                           a, front, elbow, K, th)
                 if okm and fm < SCAN_NEAR_DEVIATING and gm * g1 > 0.0:
                     count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint, has_hint, out,
                                            count, filt, ws, mats)
@@ -2050,7 +2050,7 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
                     count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
     least = math.inf
     for k in range(m + 1):
-        t5 = abs(wrap(K[L.SIGN + 4] * qs[k, 4] + K[L.DH + 19]))
+        t5 = _bend(qs[k], K)
         if math.isfinite(rs[k]) and t5 < least:
             least = t5
             for i in range(6):

@@ -38,7 +38,12 @@ def theta5_of_d(d, K):
 def theta5_cs_of_d(d, K):
     """:func:`theta5_of_d`, and its cosine and sine (from the half angle, no further
     trigonometric call)."""
-    h = K[L.KW] / d  # cos(phi / 2)
+    return theta5_cs_of_u(K[L.KW] / d, K)
+
+
+@njit
+def theta5_cs_of_u(h, K):
+    """:func:`theta5_cs_of_d` of ``u = KW / d = cos(phi / 2)``, the polynomial's variable."""
     s2 = (1.0 - h) / (2.0 * K[L.SB] * K[L.SB])
     s2 = min(1.0, max(0.0, s2))  # sin^2(theta5 / 2)
     x = math.sqrt(s2)
