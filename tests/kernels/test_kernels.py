@@ -300,3 +300,83 @@ def test_gap_reaches_is_the_gaps_ok(name):
                         else:
                             t_out = tm
     assert seen == {True, False} and ends > 0
+
+
+def _weighted_error(robot, q, Td):
+    """The pose error of ``q`` as the reduced residual takes it (position over the robot's size,
+    then the world rotation vector taking the pose to ``Td``), from the public FK and scipy."""
+    from scipy.spatial.transform import Rotation
+
+    T = robot.fk(q)
+    rot = Rotation.from_matrix(Td[:3, :3] @ T[:3, :3].T).as_rotvec()
+    return np.concatenate([(Td[:3, 3] - T[:3, 3]) / robot.kernel_params[_layout.SCALE], rot])
+
+
+def test_reduced_residual_against_a_converged_least_squares():
+    """The straight-wrist scan's reduced residual (``_reduced_at``: Gauss-Newton on five joints
+    with one fixed, stopped before a step below REDUCED_SETTLE) against a least-squares point
+    converged to the end by scipy (finite differences, its own pose error): the residual norm
+    it returns is the converged one, and its determinant ``det [J_other | e]`` is the one at
+    the converged point, on the IRB 5400 near straight wrists (where the scan runs), on both
+    sides of exact solutions."""
+    from scipy.optimize import least_squares
+
+    robot = ik7r.load_robot("irb5400")
+    K = robot.kernel_params
+    rng = np.random.default_rng(4)
+    work = [np.empty((4, 4)), np.empty((6, 6)), np.empty((6, 6)), np.empty(6), np.empty(6),
+            np.empty(6), np.empty((7, 6))]
+    signs = set()
+    free = [0, 1, 2, 4, 5]
+    for _ in range(20):
+        src = rng.uniform(-np.pi, np.pi, 6)
+        src[4] = rng.uniform(-1e-3, 1e-3)
+        Td = robot.fk(src)
+        v = src[3] + rng.uniform(-0.3, 0.3)
+        q = src.copy()
+        q[:3] += rng.uniform(-1e-3, 1e-3, 3)  # (a start like the scan's: the arm near, q5 near 0)
+        r, norm, ok = _complete._reduced_at(q, 3, v, Td, K, *work)
+        assert ok
+
+        def err(x, v=v, Td=Td):
+            qq = np.empty(6)
+            qq[free] = x
+            qq[3] = v
+            return _weighted_error(robot, qq, Td)
+
+        fit = least_squares(err, q[free], xtol=1e-15, ftol=1e-15, gtol=1e-15, method="lm")
+        ref_norm = np.linalg.norm(fit.fun)
+        assert abs(norm - ref_norm) <= 10 * _complete.REDUCED_SETTLE ** 2, (norm, ref_norm)
+        assert np.abs(q[free] - fit.x).max() < 1e-4
+        qls = src.copy()
+        qls[free] = fit.x
+        qls[3] = v
+        J = np.empty((6, 6))
+        _kin.jacobian(qls, K, J)
+        J[:3] /= K[_layout.SCALE]
+        A = J.copy()
+        A[:, 3] = fit.fun
+        ref = np.linalg.det(A)
+        assert abs(r - ref) <= 1e-5 * abs(ref) + 1e-15, (r, ref)
+        signs.add(np.sign(ref))
+    assert signs == {-1.0, 1.0}
+
+
+def test_polish_settle_stops_unverified_next_to_the_solution():
+    """``polish`` with ``settle``: it stops after the first Newton step below ``settle`` and
+    says False (nothing verified), leaving an error of the order of that step squared; without
+    it the same start is verified (True) to the tolerance."""
+    robot = ik7r.load_robot("irb5400")
+    K = robot.kernel_params
+    rng = np.random.default_rng(8)
+    for _ in range(20):
+        src = rng.uniform(-np.pi, np.pi, 6)
+        src[4] = rng.choice([-1, 1]) * rng.uniform(0.3, 2.8)  # (a regular wrist)
+        Td = robot.fk(src)
+        start = src + rng.uniform(-1e-3, 1e-3, 6)
+        q = start.copy()
+        assert not _kin.polish(q, Td, K, 4, False, 0, 1e-4)
+        assert np.abs(q - src).max() < 1e-6
+        q = start.copy()
+        assert _kin.polish(q, Td, K, 8)
+        assert np.abs(q - src).max() < 1e-9

@@ -174,6 +174,7 @@ REDUCED_GRID = 48
 #: sign) is a dip to minimise (see :func:`_dips_to_zero`)
 DIP_SHARP = 0.1
 REDUCED_ITERS = 4
+REDUCED_SETTLE = 1e-5
 _NFAMILIES = 8
 #: Deviating models: a solution whose Jacobian's smallest singular value (position rows over the
 #: robot's size, relative to the largest) is below this may have a partner the idealised model
@@ -213,6 +214,10 @@ START_REACH = 0.05
 #: ... and its polish gives up when the error stalls for this many Newton steps (see fk.polish;
 #: 3 lost no solution either over those 36,000 poses).
 STALL_PATIENCE = 6
+#: A polish on an intermediate model of the homotopy stops once its Newton step is below this
+#: (rad; the error left is of the order of its square): the forward kinematics that would verify
+#: it is not needed there.
+HOMOTOPY_SETTLE = 1e-4
 _MEMO = 7
 _MEMO_N = _MEMO + MEMO_SIZE // 2
 _NMATS = _MEMO_N + 1
@@ -515,7 +520,8 @@ def _polish_deviating(q, dp, Td, K, follow, mats):
     # follow the solution from the idealised model to the exact one in small steps, so that
     # each candidate lands on its own exact solution even inside a close cluster
     for k in range(L.HOMOTOPY_STEPS if follow else 0):
-        polish(q, Td, K[L.HOMOTOPY + k * L.BASE_SIZE:L.HOMOTOPY + (k + 1) * L.BASE_SIZE], 4)
+        polish(q, Td, K[L.HOMOTOPY + k * L.BASE_SIZE:L.HOMOTOPY + (k + 1) * L.BASE_SIZE], 4,
+               False, 0, HOMOTOPY_SETTLE)
     exact = polish(q, Td, K, 30, False, STALL_PATIENCE)
     _remember(entry, exact, mats)
     return _LANDED if exact else _MISSED
@@ -1878,12 +1884,15 @@ def _reduced_at(q, j, v, Td, K, T, J, A, e, g, dq, ZO):
     their values in ``q``, updated in place) for the least-squares pose error, then
     ``det [J_other | e]`` (position rows over the robot's size): a signed scalar, continuous in
     ``v``, zero exactly where the least-squares point is a solution (``e`` is orthogonal to the
-    five columns there, so the determinant is ``e`` along their normal). Returns (r, |e|, ok);
-    ``T`` is left at the forward kinematics of ``q``."""
+    five columns there, so the determinant is ``e`` along their normal). Gauss-Newton stops
+    before a step below REDUCED_SETTLE (rad): the determinant does not change when ``e`` takes
+    the step's combination of the other columns (the residual the step leaves, to first order),
+    so the point it would reach is worth no further forward kinematics; its residual
+    ``e - J_other dq`` gives ``|e|``. Returns (r, |e|, ok); ``T`` is left at the forward
+    kinematics of ``q``."""
     q[j] = v
     w = 1.0 / K[L.SCALE]
     ok = True
-    done = False
     for it in range(REDUCED_ITERS + 1):
         fk_jacobian(q, K, T, J, ZO)
         pose_error(T, Td, e, ZO[:3, :3])
@@ -1891,7 +1900,7 @@ def _reduced_at(q, j, v, Td, K, T, J, A, e, g, dq, ZO):
             e[r] *= w
             for c in range(6):
                 J[r, c] *= w
-        if it == REDUCED_ITERS or done:
+        if it == REDUCED_ITERS:
             break
         for a_ in range(6):
             g[a_] = 0.0
@@ -1915,13 +1924,18 @@ def _reduced_at(q, j, v, Td, K, T, J, A, e, g, dq, ZO):
         for i in range(6):
             if i != j:
                 big = max(big, abs(dq[i]))
+        if big < REDUCED_SETTLE:
+            for r in range(6):  # (the residual the step would leave; dq[j] is 0)
+                s = 0.0
+                for c in range(6):
+                    if c != j:
+                        s += J[r, c] * dq[c]
+                e[r] -= s
+            break
         f = 1.0 if big <= 0.1 else 0.1 / big
         for i in range(6):
             if i != j:
                 q[i] += f * dq[i]
-        # (Gauss-Newton converges quadratically: after a step below 1e-7 the next is rounding;
-        # and the determinant does not change, to first order, when e moves along J_other)
-        done = big < 1e-7
     norm = 0.0
     for r in range(6):
         norm += e[r] * e[r]

@@ -292,7 +292,7 @@ def solve6(A, b, x):
 
 
 @njit(allocates=True)
-def polish(q, Td, K, max_iter, damped=False, patience=0):
+def polish(q, Td, K, max_iter, damped=False, patience=0, settle=0.0):
     """Newton-Raphson on the full forward kinematics from ``q`` (modified in place).
 
     Returns True when the residual is within the robot's tolerances (``POS_TOL`` in the
@@ -303,10 +303,13 @@ def polish(q, Td, K, max_iter, damped=False, patience=0):
     steps (from the first step on): Newton then circles a local minimum of the error, which is
     no solution. Steps clamped to MAX_POLISH_STEP do not count: a start far off may travel
     without progress before it converges (one such start, on a rounded 45 deg robot, lost its
-    solution when they counted).
+    solution when they counted). ``settle`` > 0: stop once a full Newton step is below it (rad),
+    returning False (not verified): for the intermediate models of a homotopy, where Newton's
+    quadratic convergence leaves an error of the order of that step squared and the forward
+    kinematics that would verify it is not needed.
     """
     return polish_into(q, Td, K, max_iter, np.empty((4, 4)), np.empty((6, 6)), np.empty(6), np.empty(6),
-                       np.empty((7, 6)), damped, patience)
+                       np.empty((7, 6)), damped, patience, settle)
 
 
 #: See :func:`polish`: the error must fall below this fraction of itself every ``patience`` steps.
@@ -353,7 +356,7 @@ def _damped_step(q, Td, K, T, J, e, dq, ZO):
 
 
 @njit
-def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO, damped=False, patience=0):
+def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO, damped=False, patience=0, settle=0.0):
     """:func:`polish` with caller-provided work arrays ``T`` (4, 4), ``J`` (6, 6), ``e``, ``dq``
     (6,) and ``ZO`` (7, 6)."""
     tol_p = K[L.POS_TOL]
@@ -384,4 +387,6 @@ def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO, damped=False, patience=0):
         travelled = travelled or f < 1.0
         for i in range(6):
             q[i] += f * dq[i]
+        if big < settle:
+            return False
     return False
