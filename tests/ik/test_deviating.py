@@ -174,6 +174,35 @@ def test_hidden_pairs(name, irb):
     assert misses(robot, np.array(_HIDDEN_PAIRS[name])) == []
 
 
+#: The rounded 45 deg robot of ``benchmarks/edges.py``: shoulder offset 250 mm, elbow offset
+#: 150 mm, d6 0.1 mm off d5, the middle twist 1e-4 rad off.
+_ROUNDED_B45_DH = np.array([[0, 0, 400, 0], [250, math.pi / 2, 0, 0], [1100, 0, 0, 0],
+                            [150, math.pi / 2, 1200, 0], [0, -math.pi / 4, 90, 0],
+                            [0, math.pi / 2 - 1e-4, 90.1, 0], [0, -math.pi / 4, 110, 0]], float)
+
+
+def test_a_root_pair_at_the_start_of_the_straight_scan():
+    """Two exact straight-wrist solutions (q5 = 0 exactly) of the rounded 45 deg robot whose
+    splits q4 lie 0.055 rad apart, both within the first cell of the straight-wrist scan over
+    the whole turn (q4 from -pi): its reduced residual dips between them to -4e-9 from 1e-7 on
+    either side, and the dip is at the scan's first point, which has no point before it unless
+    the curve is taken as closed. The source was missed (7 answers) until it was; now both are
+    answers, each exact in every joint (q5 included: no comparison through q4 + q7)."""
+    robot = Robot(name="rounded_b45", dh=_ROUNDED_B45_DH)
+    for q in ([0.8888024536868331, -0.42429073832344644, -0.31833083631844694, -3.084967241805707,
+               0.0, -2.3972252890189134],
+              [-0.9634999483152615, -0.5452759255998818, -2.035326530224361, -3.021258286559034,
+               0.0, -2.8257787977510453]):
+        q = np.array(q)
+        sols = robot.ik_all(robot.fk(q))
+        F = robot.fk(sols)
+        assert np.linalg.norm(F[:, :3, 3] - robot.fk(q)[:3, 3], axis=-1).max() <= robot.position_tolerance
+        near = np.abs(np.pi - np.mod(np.pi - (sols - q), 2 * np.pi)).max(axis=1)
+        assert near.min() < SOURCE_TOL, near.min()
+        partner = sols[(np.argsort(near)[1])]
+        assert abs(partner[4]) < 1e-4 and 0.04 < near[np.argsort(near)[1]] < 0.2, partner
+
+
 def test_a_far_start_travels_to_its_solution():
     """The rounded 45 deg robot of ``benchmarks/edges.py`` (shoulder offset 250 mm, elbow offset
     150 mm, d6 0.1 mm off d5, the middle twist 1e-4 rad off), a pose beside the fully bent wrist
@@ -182,9 +211,7 @@ def test_a_far_start_travels_to_its_solution():
     are clamped to the step limit and make no progress: it was given up for a stall
     (``fk.polish``'s patience) until clamped steps stopped counting. Both vectors are sources
     (their poses agree within the tolerance, by the test's own DH product below)."""
-    b = math.radians(45.0)
-    dh = np.array([[0, 0, 400, 0], [250, math.pi / 2, 0, 0], [1100, 0, 0, 0], [150, math.pi / 2, 1200, 0],
-                   [0, -b, 90, 0], [0, 2 * b - 1e-4, 90.1, 0], [0, -b, 110, 0]], float)
+    dh = _ROUNDED_B45_DH
     robot = Robot(name="rounded_b45", dh=dh)
     Q = np.array([[-0.4095153964129472, -1.521404751280496, -1.570358819954249, 0.27388573095080737,
                    -3.108448671894344, 1.396851865302744],

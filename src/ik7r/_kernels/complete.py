@@ -175,6 +175,9 @@ REDUCED_GRID = 48
 DIP_SHARP = 0.1
 REDUCED_ITERS = 4
 REDUCED_SETTLE = 1e-5
+#: ... and a scan over the whole turn whose last point is within this (rad, every joint) of its
+#: first has come back to its start: a closed curve (see :func:`_reduced_scan`)
+CLOSED_TOL = 1e-4
 _NFAMILIES = 8
 #: Deviating models: a solution whose Jacobian's smallest singular value (position rows over the
 #: robot's size, relative to the largest) is below this may have a partner the idealised model
@@ -2023,6 +2026,9 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
             dp, dr = residual(T, Td)
             if dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]:
                 count = _add(qt.copy(), out, count, Td, K, mats)
+    # over a whole turn the branch is a closed curve when it comes back to its start: the grid
+    # point before the first is then the last but one (a dip at the start is a dip)
+    closed = abs(v1 - v0 - TWO_PI) < 1e-12 and _far(qs[0], qs[m]) < CLOSED_TOL
     for k in range(m):
         va = v0 + (v1 - v0) * k / m
         vb = v0 + (v1 - v0) * (k + 1) / m
@@ -2030,13 +2036,14 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
         rb = rs[k + 1]
         if not (math.isfinite(ra) and math.isfinite(rb)):
             continue
+        kb = k - 1 if k > 0 else m - 1  # (the point before; k = 0 only on a closed curve)
         if ra * rb < 0.0:
             for i in range(6):
                 qt[i] = qs[k, i]
             _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO)
             count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
-        elif (0 < k and es[k] <= es[k - 1] and es[k] <= es[k + 1] and math.isfinite(rs[k - 1])
-              and rs[k - 1] * ra > 0.0 and _dips_to_zero(rs[k - 1], ra, rb)):
+        elif ((0 < k or closed) and es[k] <= es[kb] and es[k] <= es[k + 1]
+              and math.isfinite(rs[kb]) and rs[kb] * ra > 0.0 and _dips_to_zero(rs[kb], ra, rb)):
             # a dip of |e| without a sign change: a tangency, or two roots within one cell; where
             # the bottom has the other sign, both roots are refined
             for i in range(6):
@@ -2056,7 +2063,7 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
             count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
             if okm and rm * ra < 0.0:
                 v_lo = v0 + (v1 - v0) * (k - 1) / m
-                for vx, rx in ((v_lo, rs[k - 1]), (vb, rb)):
+                for vx, rx in ((v_lo, rs[kb]), (vb, rb)):
                     for i in range(6):
                         qt[i] = qm[i]
                     _reduced_root(qt, j, min(vx, vm), max(vx, vm), rx if vx < vm else rm,
