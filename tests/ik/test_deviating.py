@@ -164,6 +164,13 @@ _HIDDEN_PAIRS = {
         [-0.021356332966660396, -1.7235451566080695, 1.5768670166351093, -2.6841534470723234,
          3.0154622798296593, 0.008393047391570096],
     ],
+    4: [
+        # the elbow stretched (q3 = pi/2 - 2e-6), a regular wrist: a near miss of one arm branch's
+        # bend gap (1.3e-4 rad) between the branch's end (the stretch, theta5 = 2.655) and the
+        # first grid point it reaches, where no grid minimum shows it (singular-set poses, seed 31)
+        [-0.19296813597127382, -1.6181363478114283, 1.5707941798915999, -0.16693346180549318,
+         2.700271546229752, 1.1252356860004218],
+    ],
 }
 
 

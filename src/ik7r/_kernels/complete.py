@@ -1039,7 +1039,10 @@ def _gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
     where the fully bent wrist is nearly folded back), each grid minimum of ``|gap|`` below
     GAP_NEAR_GRID (rad) whose cells keep one sign is refined by Brent's minimiser and, when it
     comes below SCAN_NEAR_DEVIATING without crossing zero, completed with the wrist and polished
-    on the exact model (its partner: :func:`_partners`). Sign changes are the polynomial's."""
+    on the exact model (its partner: :func:`_partners`). Next to an end of the branch (the elbow
+    stretched), a grid point below GAP_NEAR_GRID whose ``|gap|`` falls toward the end has no
+    defined neighbour there: the end is bisected for (:func:`_branch_end`) and the part between it
+    and the point minimised the same way. Sign changes are the polynomial's."""
     m = GAP_NEAR_CELLS
     gs = ws[_SCAN:_SCAN + m + 1]
     th = ws[_TH:_TH + _NTH]
@@ -1055,6 +1058,20 @@ def _gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
                 # (at an end of the range, the straight or fully bent wrist, the one neighbour
                 # is taken twice: a minimum there is refined over its one cell)
                 g0, g1, g2 = gs[max(i - 1, 1 - i)], gs[i], gs[min(i + 1, 2 * m - 1 - i)]
+                if (0 < i < m and abs(g1) < GAP_NEAR_GRID
+                        and math.isfinite(g0) != math.isfinite(g2)):
+                    # the branch ends in the cell beside: a near miss between the end and this
+                    # point (the elbow nearly stretched) has no grid point of its own
+                    out_i = i - 1 if math.isfinite(g2) else i + 1
+                    g_in = g2 if math.isfinite(g2) else g0
+                    if g1 * g_in > 0.0 and abs(g1) <= abs(g_in):
+                        t_e = _branch_end(top * i / m, top * out_i / m, p, a, front, elbow, K, th)
+                        tm, fm, gm, okm = _gap_min(min(t_e, top * i / m), max(t_e, top * i / m),
+                                                   p, a, front, elbow, K, th)
+                        if okm and fm < SCAN_NEAR_DEVIATING and gm * g1 > 0.0:
+                            count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint,
+                                                   has_hint, out, count, filt, ws, mats)
+                    continue
                 if not (abs(g1) < GAP_NEAR_GRID and g0 * g1 > 0.0 and g1 * g2 > 0.0
                         and abs(g1) <= abs(g0) and abs(g1) <= abs(g2)
                         and (abs(g1) < SCAN_NEAR_DEVIATING or _dips_to_zero(g0, g1, g2))):
@@ -1065,6 +1082,22 @@ def _gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
                     count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint, has_hint, out,
                                            count, filt, ws, mats)
     return count
+
+
+@njit
+def _branch_end(t_in, t_out, p, a, front, elbow, K, th):
+    """The end of the arm branch (``front``, ``elbow``) between ``t_in``, where its gap is
+    defined, and ``t_out``, where it is not: bisection to the last bit (:func:`_gap_reaches`);
+    returns the last point found on the defined side."""
+    for _ in range(60):
+        tm = 0.5 * (t_in + t_out)
+        if tm == t_in or tm == t_out:
+            break
+        if _gap_reaches(tm, p, a, front, elbow, K, th):
+            t_in = tm
+        else:
+            t_out = tm
+    return t_in
 
 
 @njit
@@ -1099,16 +1132,9 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
         ti = ta + (tb - ta) * i / m
         if i < m and math.isfinite(gi) != math.isfinite(gs[i + 1]) and npieces < SCAN_PIECES:
             # the branch ends in this cell: bisect for the end, then scan the defined part
-            t_in = ti if math.isfinite(gi) else ta + (tb - ta) * (i + 1) / m
-            t_out = ta + (tb - ta) * (i + 1) / m if math.isfinite(gi) else ti
-            for _ in range(60):
-                tm = 0.5 * (t_in + t_out)
-                if tm == t_in or tm == t_out:
-                    break
-                if _gap_reaches(tm, p, a, front, elbow, K, th):
-                    t_in = tm
-                else:
-                    t_out = tm
+            t_in = _branch_end(ti if math.isfinite(gi) else ta + (tb - ta) * (i + 1) / m,
+                               ta + (tb - ta) * (i + 1) / m if math.isfinite(gi) else ti,
+                               p, a, front, elbow, K, th)
             edge = ti if math.isfinite(gi) else ta + (tb - ta) * (i + 1) / m
             sub[2 * npieces] = min(t_in, edge)
             sub[2 * npieces + 1] = max(t_in, edge)
