@@ -143,6 +143,11 @@ SCAN_NEAR_DEVIATING = 1e-2
 #: [0, pi] below this (rad) that dip toward zero are refined as near misses (see
 #: :func:`_gap_near_misses`)
 GAP_NEAR_GRID = 0.05
+#: Near the fold of a (nearly) 45 deg twist the virtual centre's distance grows as 1 / sw^2 and a
+#: deviating model's arm branch ends (the elbow stretched) where the nominal one does not: the
+#: fold scan takes a branch's end itself as a candidate when the fold gap there is below this
+#: (rad; 0.02 .. 0.025 seen on the rounded 45 deg robot of benchmarks/edges.py)
+FOLD_END_NEAR = 0.1
 GAP_NEAR_CELLS = 12
 #: Robots whose fully bent wrist is nearly folded back (``u = cos(2 beta)`` below FOLD_NEAR, a
 #: twist within about 0.6 deg of 45 deg): their virtual centre runs off to infinity near
@@ -1105,7 +1110,8 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
                 count, filt, ws, mats):
     """One grid of :func:`_scan_theta5` over [ta, tb] on one arm branch; the pieces next to
     branch ends and around dips it finds are appended to ``sub`` (while there is room: a piece
-    is two cells of the one that found it, so they nest). Returns (count, npieces)."""
+    is two cells of the one that found it, so they nest). In the fold scan of a deviating model
+    a branch's end is itself a candidate (see FOLD_END_NEAR). Returns (count, npieces)."""
     m = SCAN_GRID
     gs = ws[_SCAN:_SCAN + m + 1]
     th = ws[_TH:_TH + _NTH]
@@ -1136,6 +1142,11 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
                                ta + (tb - ta) * (i + 1) / m if math.isfinite(gi) else ti,
                                p, a, front, elbow, K, th)
             edge = ti if math.isfinite(gi) else ta + (tb - ta) * (i + 1) / m
+            if abs(front) == 2.0 and K[L.DEVIATION] > 0.0:
+                g_end, ok_end = _gap(t_in, p, a, front, elbow, K, th)
+                if ok_end and abs(g_end) < FOLD_END_NEAR:
+                    count = _gap_candidate(t_in, p, a, front, elbow, R07, Td, K, hint, has_hint,
+                                           out, count, filt, ws, mats)
             sub[2 * npieces] = min(t_in, edge)
             sub[2 * npieces + 1] = max(t_in, edge)
             npieces += 1
