@@ -130,6 +130,12 @@ _HIDDEN_PAIRS = {
         # a pair at the shoulder set 0.11 rad from the nominal gap's dip (beyond its two cells), in
         # one cell of the exact scan's grid
         [-2.9213, 2.1347, 1.6917, -1.6101, -2.1987, 0.8455],
+        # beside the stretched elbow with the wrist 0.031 rad from fully bent, the idealised model
+        # has no solution near: the near miss's candidates reached the other wrist of the arm
+        # (theta5 of the other sign, 0.066 rad away through the fold) and not this one, which its
+        # mirror start finds (seed 77)
+        [2.825041736093489, 0.7706964370097324, 1.6922105664326983, -2.4016954129338535,
+         3.1107349344516475, -1.7756616199737671],
         # a pair beside the stretched elbow whose factor's near miss read 6.6e-2 on the grid (seed 7)
         [-2.860612350316913, 0.9919575004961523, 1.6960962675777278, -2.5724446840444184, -1.4215574935069655,
          1.3357904092453214],
