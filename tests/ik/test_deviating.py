@@ -133,7 +133,7 @@ _HIDDEN_PAIRS = {
         # beside the stretched elbow with the wrist 0.031 rad from fully bent, the idealised model
         # has no solution near: the near miss's candidates reached the other wrist of the arm
         # (theta5 of the other sign, 0.066 rad away through the fold) and not this one, which its
-        # mirror start finds (seed 77)
+        # start from the found one's arm with the other wrist finds (seed 77)
         [2.825041736093489, 0.7706964370097324, 1.6922105664326983, -2.4016954129338535,
          3.1107349344516475, -1.7756616199737671],
         # a pair beside the stretched elbow whose factor's near miss read 6.6e-2 on the grid (seed 7)
@@ -169,6 +169,13 @@ _HIDDEN_PAIRS = {
         # (seed 12 of 100,000; a near miss of one arm branch's bend gap)
         [-0.021356332966660396, -1.7235451566080695, 1.5768670166351093, -2.6841534470723234,
          3.0154622798296593, 0.008393047391570096],
+    ],
+    5: [
+        # the idealised model has no solution for this pose (the elbow 0.12 rad from stretched):
+        # of the exact model's four, the near misses' candidates reached three, the fourth the other
+        # wrist of the first found (seed 77 of 100,000)
+        [-0.5003803452122155, -1.3394457631998418, 1.4544751691015207, -2.254484376561633,
+         -1.3559275776896522, -1.5479997871866287],
     ],
     4: [
         # the elbow stretched (q3 = pi/2 - 2e-6), a regular wrist: a near miss of one arm branch's

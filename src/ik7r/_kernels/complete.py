@@ -188,9 +188,9 @@ _NFAMILIES = 8
 #: robot's size, relative to the largest) is below this may have a partner the idealised model
 #: does not have (see :func:`_partners`), looked for up to PARTNER_REACH (rad) away.
 PARTNER_SIGMA = 2e-3
-#: ... and a solution whose wrist is within this (rad) of fully bent starts a polish from its arm
-#: with the other wrist (see :func:`_fold_mirrors`)
-FOLD_MIRROR = 0.1
+#: ... and a solution with no other one within this (rad, joints 1 to 3) whose theta5 has the
+#: other sign starts a polish from its arm with the other wrist (see :func:`_other_wrists`)
+OTHER_WRIST_ARM = 1e-2
 PARTNER_REACH = 0.3
 PARTNER_PIVOT = 2e-2  # a least LU pivot (relative) above this skips the singular value decomposition
 
@@ -1805,7 +1805,7 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
     if K[L.DEVIATION] > 0.0:
         count = _gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
         count = _partners(Td, K, out, count, mats)
-        count = _fold_mirrors(R07, Td, K, hint, out, count, ws, mats)
+        count = _other_wrists(R07, Td, K, out, count, ws, mats)
     if folded:
         count = _merge_folded(out, count)
     return count
@@ -2121,33 +2121,45 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
 
 
 @njit
-def _fold_mirrors(R07, Td, K, hint, out, count, ws, mats):
-    """Solutions of a deviating model beside the fully bent wrist: each solution found within
-    FOLD_MIRROR of it gives a start with its arm and the other wrist (theta5 of the other sign,
-    theta4 and theta7 from the arm's wrist target), polished on the exact model. Near the fold
-    the two wrists of one arm are nearly one another's mirror; where the idealised model has no
-    solution there (both come from one near miss), the polish of the near miss's candidates can
-    reach one and not the other."""
+def _other_wrists(R07, Td, K, out, count, ws, mats):
+    """The other wrist of each solution of a deviating model that has none: on the idealised
+    model every arm comes with both wrists (theta5 of either sign, theta4 and theta7 from the
+    arm's wrist target), and the deviation moves the two apart by about its own size. Where the
+    idealised model has no solution near (both come from one near miss, beside the elbow stretch
+    or the fully bent wrist), the polish of the near miss's candidates can reach one wrist and
+    not the other: a solution with no other one within OTHER_WRIST_ARM (rad, joints 1 to 3) whose
+    theta5 has the other sign starts a polish from its arm with the other wrist. Not at a straight
+    wrist, whose neighbours the straight-wrist scan finds (:func:`_straight_family`)."""
     th = ws[_TH:_TH + _NTH]
     q = ws[_Q6:_Q6 + 6]
     qq = ws[_QQ:_QQ + 6]
     n0 = count
     for s in range(n0):
-        t5 = K[L.SIGN + 4] * out[s, 4] + K[L.DH + 19]
-        if not math.pi - abs(wrap(t5)) < FOLD_MIRROR:
+        t5 = wrap(K[L.SIGN + 4] * out[s, 4] + K[L.DH + 19])
+        if abs(t5) < STRAIGHT_DEVIATING:
+            continue
+        paired = False
+        for e in range(count):
+            if e == s or wrap(K[L.SIGN + 4] * out[e, 4] + K[L.DH + 19]) * t5 >= 0.0:
+                continue
+            near = True
+            for i in range(3):
+                near = near and abs(wrap(out[e, i] - out[s, i])) < OTHER_WRIST_ARM
+            if near:
+                paired = True
+                break
+        if paired:
             continue
         for i in range(3):
             t = K[L.SIGN + i] * out[s, i] + K[L.DH + 4 * i + 3]
             th[i] = math.cos(t)
             th[3 + i] = math.sin(t)
         _arm_frame(th, R07, K, ws, mats)
-        Q = mats[_Q, :3, :3]
         for i in range(3):
             q[i] = out[s, i]
         t4_hint = K[L.SIGN + 3] * out[s, 3] + K[L.THETA_OFFSET4]
-        m5 = -wrap(t5)
-        count, _ = _accept(_with_wrist(q, Q, m5, math.cos(m5), math.sin(m5), t4_hint, K, mats, qq),
-                           Td, K, out, count, mats, False, False)
+        count, _ = _accept(_with_wrist(q, mats[_Q, :3, :3], -t5, math.cos(t5), -math.sin(t5), t4_hint,
+                                       K, mats, qq), Td, K, out, count, mats, False, False)
     return count
 
 
