@@ -143,6 +143,10 @@ SCAN_NEAR_DEVIATING = 1e-2
 #: [0, pi] below this (rad) that dip toward zero are refined as near misses (see
 #: :func:`_gap_near_misses`)
 GAP_NEAR_GRID = 0.05
+#: ... and one that comes below this (rad) without crossing zero is a candidate: beside the elbow
+#: stretch, where the gap is steep, a near miss of 0.0148 gave a pair of exact solutions on a
+#: rounded member (more than SCAN_NEAR_DEVIATING, the scans' threshold)
+GAP_NEAR_DEPTH = 0.03
 #: Near the fold of a (nearly) 45 deg twist the virtual centre's distance grows as 1 / sw^2 and a
 #: deviating model's arm branch ends (the elbow stretched) where the nominal one does not: the
 #: fold scan takes a branch's end itself as a candidate when the fold gap there is below this
@@ -1045,8 +1049,9 @@ def _gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
     root less than a cell away the factor changes sign and shows no minimum (:func:`_near_misses`
     looks no deeper than the shoulder branches). Over theta5 in [0, pi] (up to the fold span
     where the fully bent wrist is nearly folded back), each grid minimum of ``|gap|`` below
-    GAP_NEAR_GRID (rad) whose cells keep one sign is refined by Brent's minimiser and, when it
-    comes below SCAN_NEAR_DEVIATING without crossing zero, completed with the wrist and polished
+    GAP_NEAR_GRID (rad) whose cells keep one sign is refined by Brent's minimiser (every one: beside
+    the elbow stretch a dip is a V that no parabola through three grid values shows) and, when it
+    comes below GAP_NEAR_DEPTH without crossing zero, completed with the wrist and polished
     on the exact model (its partner: :func:`_partners`). Next to an end of the branch (the elbow
     stretched), a grid point below GAP_NEAR_GRID whose ``|gap|`` falls toward the end has no
     defined neighbour there: the end is bisected for (:func:`_branch_end`) and the part between it
@@ -1076,17 +1081,16 @@ def _gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
                         t_e = _branch_end(top * i / m, top * out_i / m, p, a, front, elbow, K, th)
                         tm, fm, gm, okm = _gap_min(min(t_e, top * i / m), max(t_e, top * i / m),
                                                    p, a, front, elbow, K, th)
-                        if okm and fm < SCAN_NEAR_DEVIATING and gm * g1 > 0.0:
+                        if okm and fm < GAP_NEAR_DEPTH and gm * g1 > 0.0:
                             count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint,
                                                    has_hint, out, count, filt, ws, mats)
                     continue
                 if not (abs(g1) < GAP_NEAR_GRID and g0 * g1 > 0.0 and g1 * g2 > 0.0
-                        and abs(g1) <= abs(g0) and abs(g1) <= abs(g2)
-                        and (abs(g1) < SCAN_NEAR_DEVIATING or _dips_to_zero(g0, g1, g2))):
+                        and abs(g1) <= abs(g0) and abs(g1) <= abs(g2)):
                     continue  # (NaN, a branch end, fails the comparisons)
                 tm, fm, gm, okm = _gap_min(top * max(i - 1, 0) / m, top * min(i + 1, m) / m, p,
                                            a, front, elbow, K, th)
-                if okm and fm < SCAN_NEAR_DEVIATING and gm * g1 > 0.0:
+                if okm and fm < GAP_NEAR_DEPTH and gm * g1 > 0.0:
                     count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint, has_hint, out,
                                            count, filt, ws, mats)
     return count
