@@ -180,6 +180,11 @@ _HIDDEN_PAIRS = {
         # wrist of the first found (seed 77 of 100,000)
         [-0.5003803452122155, -1.3394457631998418, 1.4544751691015207, -2.254484376561633,
          -1.3559275776896522, -1.5479997871866287],
+        # a pair 0.0034 rad apart beside the elbow stretch whose partner step is exact, skipped as
+        # regular by the least LU pivot (0.0205 > 0.02, sigma_min / sigma_max 1.4e-4) until the
+        # filter became the Frobenius condition number (seed 78 of 100,000)
+        [0.760006130818005, -1.5565629835806805, 1.5178936792205242, 2.608205235553968,
+         0.6505340783389495, -2.8857990764488237],
     ],
     4: [
         # the elbow stretched (q3 = pi/2 - 2e-6), a regular wrist: a near miss of one arm branch's

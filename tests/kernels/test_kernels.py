@@ -380,3 +380,28 @@ def test_polish_settle_stops_unverified_next_to_the_solution():
         q = start.copy()
         assert _kin.polish(q, Td, K, 8)
         assert np.abs(q - src).max() < 1e-9
+
+
+def test_partner_filter_is_the_frobenius_condition_number():
+    """``_condition_frobenius`` (the partner search's cheap filter) is numpy's Frobenius-norm
+    condition number, hence between the 2-norm one and 6 times it, on Jacobians from regular to
+    nearly singular (the IRB 5400 at random joints and with the elbow and wrist nearly
+    stretched), and infinite for a singular matrix."""
+    robot = ik7r.load_robot("irb5400")
+    K = robot.kernel_params
+    rng = np.random.default_rng(9)
+    work = [np.empty((6, 6)), np.empty(6), np.empty(6)]
+    for k in range(30):
+        q = rng.uniform(-np.pi, np.pi, 6)
+        if k % 3 == 0:
+            q[4] = 10.0 ** rng.uniform(-8, -2)  # (a nearly straight wrist)
+        J = np.empty((6, 6))
+        _kin.jacobian(q, K, J)
+        J[:3] /= K[_layout.SCALE]
+        c = _complete._condition_frobenius(J, *work)
+        ref = np.linalg.cond(J, "fro")
+        assert abs(c - ref) <= 1e-8 * ref, (c, ref)
+        c2 = np.linalg.cond(J, 2)
+        assert c2 * (1 - 1e-9) <= c <= 6 * c2 * (1 + 1e-9)
+    J[:, 2] = J[:, 1]
+    assert _complete._condition_frobenius(J, *work) == np.inf

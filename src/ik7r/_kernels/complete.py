@@ -196,7 +196,6 @@ PARTNER_SIGMA = 2e-3
 #: other sign starts a polish from its arm with the other wrist (see :func:`_other_wrists`)
 OTHER_WRIST_ARM = 1e-2
 PARTNER_REACH = 0.3
-PARTNER_PIVOT = 2e-2  # a least LU pivot (relative) above this skips the singular value decomposition
 
 #: Largest number of Bernstein coefficients, and of brackets.
 _NB = MAX_DEGREE + 1
@@ -2167,6 +2166,29 @@ def _other_wrists(R07, Td, K, out, count, ws, mats):
     return count
 
 
+@njit
+def _condition_frobenius(J, A, b, x):
+    """``|J|_F |J^-1|_F`` of ``J`` (6, 6; inf when singular), from six solves (``A``, ``b``,
+    ``x``: work arrays): at least ``sigma_max / sigma_min`` and at most 6 times it, so that a
+    solution whose value is below ``1 / PARTNER_SIGMA`` is regular beyond doubt, for the cost
+    of a few Jacobians instead of a singular value decomposition."""
+    inv = 0.0
+    for k in range(6):
+        for r in range(6):
+            for c in range(6):
+                A[r, c] = J[r, c]
+            b[r] = 1.0 if r == k else 0.0
+        if solve6(A, b, x) == 0.0:
+            return math.inf
+        for r in range(6):
+            inv += x[r] * x[r]
+    nj = 0.0
+    for r in range(6):
+        for c in range(6):
+            nj += J[r, c] * J[r, c]
+    return math.sqrt(nj * inv)
+
+
 @njit(allocates=True)
 def _partners(Td, K, out, count, mats):
     """Solutions of a deviating model next to a nearly singular one. Where the exact model has
@@ -2192,12 +2214,8 @@ def _partners(Td, K, out, count, mats):
         for r in range(3):
             for c in range(6):
                 J[r, c] *= w
-        for r in range(6):
-            for c in range(6):
-                A[r, c] = J[r, c]
-            ep[r] = 0.0
-        if solve6(A, ep, qt) > PARTNER_PIVOT:
-            continue  # clearly regular (the least pivot bounds the singular values roughly)
+        if PARTNER_SIGMA * _condition_frobenius(J, A, ep, qt) <= 1.0:
+            continue  # clearly regular: sigma_min / sigma_max >= 1 / the Frobenius condition
         U, S, Vt = np.linalg.svd(J)
         if not S[5] < PARTNER_SIGMA * S[0]:
             continue
