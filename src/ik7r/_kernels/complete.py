@@ -2197,7 +2197,8 @@ def _partners(Td, K, out, count, mats):
     Jacobian's smallest singular value ``sigma`` (left and right vectors ``u``, ``v``) the pose
     error along ``x + t v`` is ``sigma t + c t^2 / 2`` on ``u`` (``c`` by central differences):
     its second zero ``t = -2 sigma / c`` is the partner's prediction, polished on the exact model
-    (a check, not a certificate: see docs/guide/edges.md)."""
+    (a check, not a certificate: see docs/guide/edges.md). A partner found is itself searched for
+    a partner (a cluster of three: a solution found only as a partner had its own missed)."""
     T = np.empty((4, 4))
     J = np.empty((6, 6))
     A = np.empty((6, 6))
@@ -2205,8 +2206,9 @@ def _partners(Td, K, out, count, mats):
     ep = np.empty(6)
     qt = np.empty(6)
     w = 1.0 / K[L.SCALE]
-    n0 = count
-    for s in range(n0):
+    s = -1
+    while s + 1 < count:  # (each new row a distinct solution: bounded by the output's size)
+        s += 1
         if _bend(out[s], K) < STRAIGHT_DEVIATING:
             continue  # a straight wrist's neighbours: the whole turn is scanned (_straight_family)
         x = out[s].copy()
