@@ -183,6 +183,7 @@ REDUCED_GRID = 48
 #: sign) is a dip to minimise (see :func:`_dips_to_zero`)
 DIP_SHARP = 0.1
 REDUCED_ITERS = 4
+#: ... stopping before a step below this (rad; see :func:`_reduced_at`)
 REDUCED_SETTLE = 1e-5
 #: ... and a scan over the whole turn whose last point is within this (rad, every joint) of its
 #: first has come back to its start: a closed curve (see :func:`_reduced_scan`)
@@ -415,9 +416,15 @@ def _far(q0, q1):
 
 
 @njit
+def _theta5(q, K):
+    """DH theta5 of ``q`` (user angles), wrapped to (-pi, pi]."""
+    return wrap(K[L.SIGN + 4] * q[4] + K[L.DH + 19])
+
+
+@njit
 def _bend(q, K):
     """abs(DH theta5) of ``q`` (user angles, wrapped)."""
-    return abs(wrap(K[L.SIGN + 4] * q[4] + K[L.DH + 19]))
+    return abs(_theta5(q, K))
 
 
 @njit
@@ -2138,12 +2145,12 @@ def _other_wrists(R07, Td, K, out, count, ws, mats):
     qq = ws[_QQ:_QQ + 6]
     n0 = count
     for s in range(n0):
-        t5 = wrap(K[L.SIGN + 4] * out[s, 4] + K[L.DH + 19])
+        t5 = _theta5(out[s], K)
         if abs(t5) < STRAIGHT_DEVIATING:
             continue
         paired = False
         for e in range(count):
-            if e == s or wrap(K[L.SIGN + 4] * out[e, 4] + K[L.DH + 19]) * t5 >= 0.0:
+            if e == s or _theta5(out[e], K) * t5 >= 0.0:
                 continue
             near = True
             for i in range(3):
