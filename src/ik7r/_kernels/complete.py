@@ -114,9 +114,11 @@ SCAN_TINY = 1e-10
 #: A dip of a theta5 or fold gap (smooth on its branch) is minimised only until Brent's bracket
 #: is below DIP_EARLY of the dip's two cells, if its least |gap| so far is then above DIP_FLOOR
 #: (rad; twice SHOULDER_DIP, the largest threshold a dip's bottom is compared with): such a dip
-#: gives no candidate. Not for the gaps in theta1 (shoulder set, fold on axis 1): the shoulder
-#: gap's dips narrow to zero within 1e-8 of their cells (docs/guide/edges.md, "The tail's time").
-DIP_EARLY = 1e-3
+#: gives no candidate (over 8,000 dips minimised to the end, none the rule stops came below 0.201).
+#: Not for the gaps in theta1 (shoulder set, fold on axis 1): the shoulder gap's dips narrow to
+#: zero within 1e-8 of their cells (docs/guide/edges.md, "The tail's time"), at every distance of
+#: the deviating models' scan (1e-7 .. 2e-3 of the size) alike.
+DIP_EARLY = 1e-1
 DIP_FLOOR = 0.2
 #: The theta1 scan runs where the line of virtual centres passes this close (relative to the
 #: robot's size) to axis 1.
@@ -160,6 +162,12 @@ GAP_NEAR_CELLS = 12
 #: the polynomial.
 FOLD_NEAR = 0.02
 FOLD_SPAN = 0.05
+#: ... and on a model that deviates from the idealised one, u down to this (of the range) below
+#: the fold too (the nominal roots there, theta5 clamped to pi, start exact solutions at the
+#: fold; 2e-2 found nothing more over 40,000 poses of four rounded 45 deg robots), on a grid of
+#: FOLD_BELOW_CELLS: finer in sw than the span above (see :func:`_scan_fold`)
+FOLD_BELOW = 2e-3
+FOLD_BELOW_CELLS = 8
 #: ... and where the scaled virtual centre at the fold is this close to axis 1 (relative to KW
 #: and the robot's size; the approach nearly parallel to axis 1) the fold gap is scanned in
 #: theta1 too.
@@ -1020,7 +1028,8 @@ def _gap_min(t0, t1, p, a, front, elbow, K, th, floor=0.0):
 
 
 @njit
-def _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats, front1=1.0):
+def _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats, front1=1.0,
+                 cells=SCAN_GRID):
     """Every solution with theta5 in [ta, tb] (an interval the residual polynomial left
     undecided: its values there are within their rounding of zero), from the bend gap of each
     of the four arm branches (:func:`_bend_gap`) on a grid: sign changes refined to the last
@@ -1028,7 +1037,8 @@ def _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws,
     and split at the dip. Where a branch ends inside a cell (the elbow stretches) the end is
     found by bisection and the piece between it and the grid is scanned on a grid of its own.
     Each candidate is completed with the wrist and verified on the forward kinematics.
-    ``front1`` 2: the same scan of the fold gap (:func:`_scan_fold`)."""
+    ``front1`` 2: the same scan of the fold gap (:func:`_scan_fold`). ``cells``: the first grid's
+    (the pieces it adds have SCAN_GRID)."""
     sub = ws[_SUB:_SUB + 2 * SCAN_PIECES]
     for front in (front1, -front1):
         for elbow in (1.0, -1.0):
@@ -1040,7 +1050,8 @@ def _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws,
                 t0 = sub[2 * j]
                 t1 = sub[2 * j + 1]
                 count, npieces = _scan_piece(t0, t1, sub, npieces, front, elbow, p, a, R07,
-                                             Td, K, hint, has_hint, out, count, filt, ws, mats)
+                                             Td, K, hint, has_hint, out, count, filt, ws, mats,
+                                             cells if j == 0 else SCAN_GRID)
                 j += 1
     return count
 
@@ -1120,12 +1131,13 @@ def _branch_end(t_in, t_out, p, a, front, elbow, K, th):
 
 @njit
 def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_hint, out,
-                count, filt, ws, mats):
+                count, filt, ws, mats, cells=SCAN_GRID):
     """One grid of :func:`_scan_theta5` over [ta, tb] on one arm branch; the pieces next to
     branch ends and around dips it finds are appended to ``sub`` (while there is room: a piece
     is two cells of the one that found it, so they nest). In the fold scan of a deviating model
-    a branch's end is itself a candidate (see FOLD_END_NEAR). Returns (count, npieces)."""
-    m = SCAN_GRID
+    a branch's end is itself a candidate (see FOLD_END_NEAR). ``cells``: the grid's (at most
+    SCAN_GRID). Returns (count, npieces)."""
+    m = cells
     gs = ws[_SCAN:_SCAN + m + 1]
     th = ws[_TH:_TH + _NTH]
     near = SCAN_NEAR if K[L.DEVIATION] == 0.0 else SCAN_NEAR_DEVIATING
@@ -1463,11 +1475,10 @@ def _scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     stay apart on the grid) from the fold (0) to just past where the polynomial search begins."""
     if K[L.DEVIATION] > 0.0:
         # the exact model's solutions at the fold may come from nominal roots beyond it (u below
-        # cos(2 beta), down to 2 % of the range as the polynomial's range is padded; theta5
-        # clamped to pi): near a fold at infinity a twist 1e-4 rad off moves the virtual centre
-        # by d 1e-4, and it may come back from the other side (u < 0)
-        count = _scan_theta5(-math.sqrt(0.02 * (1.0 - _u_fold(K))), 0.0, p, a, R07, Td, K, hint,
-                             has_hint, out, count, filt, ws, mats, 2.0)
+        # cos(2 beta), theta5 clamped to pi): near a fold at infinity a twist 1e-4 rad off moves
+        # the virtual centre by d 1e-4, and it may come back from the other side (u < 0)
+        count = _scan_theta5(-math.sqrt(FOLD_BELOW * (1.0 - _u_fold(K))), 0.0, p, a, R07, Td, K,
+                             hint, has_hint, out, count, filt, ws, mats, 2.0, FOLD_BELOW_CELLS)
     count = _scan_theta5(0.0, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint,
                          has_hint, out, count, filt, ws, mats, 2.0)
     if _fold_near_axis(p, a, K):
@@ -1482,7 +1493,7 @@ def _scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
 @njit
 def _fold_span_u(K):
     """The span of ``u - cos(2 beta)`` the fold scan covers (see :func:`_scan_fold`)."""
-    lo = -0.02 * (1.0 - _u_fold(K)) if K[L.DEVIATION] > 0.0 else 0.0
+    lo = -FOLD_BELOW * (1.0 - _u_fold(K)) if K[L.DEVIATION] > 0.0 else 0.0
     return lo, FOLD_SPAN * (1.0 + 1e-3) ** 2
 
 
