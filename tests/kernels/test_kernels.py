@@ -9,6 +9,8 @@ import math
 
 import numpy as np
 import pytest
+from helpers import wrap
+from reference_ik import reference_fk
 
 import ik7r
 from ik7r._kernels import complete as _complete
@@ -17,6 +19,7 @@ from ik7r._kernels import params as _layout
 from ik7r._kernels import poly as _poly
 from ik7r._kernels import wrist as _wrist
 from ik7r.geometry.configs import config_number
+from ik7r.robot import Robot
 
 OFFSETS_TOML = """
 name = "offsets"
@@ -405,3 +408,43 @@ def test_partner_filter_is_the_frobenius_condition_number():
         assert c2 * (1 - 1e-9) <= c <= 6 * c2 * (1 + 1e-9)
     J[:, 2] = J[:, 1]
     assert _complete._condition_frobenius(J, *work) == np.inf
+
+
+def test_isolate_bounded_where_the_residual_stays_at_rounding(monkeypatch):
+    """An exact 45 deg member with offsets (benchmarks/edges.py's offsets_b45), a pose whose
+    residual stays within a few roundings of zero over a stretch of 3e-4 of the range (mixed
+    signs beyond the bound there, so never "zero within rounding"): every rounding wiggle was
+    split down to WMIN, 8,883 samplings (8.6 ms compiled, over item 8's 5 ms). Past
+    ISOLATE_BUDGET samplings such intervals no wider than ZERO_WIDTH are handed on undecided;
+    the pose's four solutions, its source among them, are still found, each exact."""
+    b = math.radians(45.0)
+    dh = np.array([[0, 0, 400, 0], [250, math.pi / 2, 0, 0], [1100, 0, 0, 0], [150, math.pi / 2, 1200, 0],
+                   [0, -b, 90, 0], [0, 2 * b, 90, 0], [0, -b, 110, 0]], float)
+    robot = Robot(name="offsets_b45", dh=dh)
+    q = np.array([-0.19215119, -0.68618644, 1.49903145, 1.66677822, 2.30244521, 2.89027813])
+    K = robot.kernel_params
+    T = robot.fk(q)
+    T07 = np.empty((4, 4))
+    _complete.frame07(T, K, T07)
+    p, a = T07[:3, 3].copy(), T07[:3, 2] / np.linalg.norm(T07[:3, 2])
+    Bm, bnorm = _poly.bernstein_tables(K)
+    lo, hi = _complete._interval(K)
+    sampled = [0]
+    compiled = _poly._bernstein
+
+    def counted(*args):
+        sampled[0] += 1
+        return compiled(*args)
+
+    monkeypatch.setattr(_poly, "_bernstein", counted)  # (seen by isolate's Python original)
+    n = _complete._NBRACKETS
+    blo, bhi, bsure = np.empty(n), np.empty(n), np.empty(n)
+    count = _poly.isolate.py_func(0, lo, hi, p, a, K, Bm, bnorm, blo, bhi, bsure,
+                                  np.empty((n, Bm.shape[0])), np.empty(_poly.ISOLATE_WORK))
+    assert count > 0 and (bsure[:count] == 0.0).any()  # the stretch is there, undecided
+    assert sampled[0] <= 2 * _poly.ISOLATE_BUDGET, sampled[0]
+    sols = robot.ik_all(T)
+    assert np.abs(wrap(sols - q)).max(axis=1).min() < 1e-9
+    F = reference_fk(robot, sols)
+    assert np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=1).max() <= robot.position_tolerance
+    assert len(sols) == 4
