@@ -185,6 +185,12 @@ _HIDDEN_PAIRS = {
         # filter became the Frobenius condition number (seed 78 of 100,000)
         [0.760006130818005, -1.5565629835806805, 1.5178936792205242, 2.608205235553968,
          0.6505340783389495, -2.8857990764488237],
+        # three exact solutions on one curve of nearly solutions (sigma_min / sigma_max 4e-5 at
+        # the one found), 0.062 and 0.10 rad from it in q5: the curve bends away from the line
+        # x + t v, where the partner step predicted t = -4 (seed 78 of 100,000); the reduced
+        # residual in q5 along the curve changes sign at both
+        [2.9558047296183654, 0.8459362082297188, 1.4353412211748253, -1.8524412647382635,
+         3.027523818601475, 2.735464241944948],
     ],
     4: [
         # the elbow stretched (q3 = pi/2 - 2e-6), a regular wrist: a near miss of one arm branch's

@@ -205,6 +205,10 @@ PARTNER_SIGMA = 2e-3
 #: other sign starts a polish from its arm with the other wrist (see :func:`_other_wrists`)
 OTHER_WRIST_ARM = 1e-2
 PARTNER_REACH = 0.3
+#: ... and where the partner step finds nothing new, the reduced residual in the joint the
+#: singular vector moves most is scanned this many cells each way (PARTNER_REACH times that
+#: joint's share of the vector)
+PARTNER_CELLS = 4
 
 #: Largest number of Bernstein coefficients, and of brackets.
 _NB = MAX_DEGREE + 1
@@ -2215,8 +2219,12 @@ def _partners(Td, K, out, count, mats):
     Jacobian's smallest singular value ``sigma`` (left and right vectors ``u``, ``v``) the pose
     error along ``x + t v`` is ``sigma t + c t^2 / 2`` on ``u`` (``c`` by central differences):
     its second zero ``t = -2 sigma / c`` is the partner's prediction, polished on the exact model
-    (a check, not a certificate: see docs/guide/edges.md). A partner found is itself searched for
-    a partner (a cluster of three: a solution found only as a partner had its own missed)."""
+    (a check, not a certificate: see docs/guide/edges.md). Where that step finds nothing new,
+    the reduced residual (:func:`_reduced_scan`) in the joint ``v`` moves most is scanned
+    PARTNER_CELLS cells each way: the partner lies on the curve of nearly solutions through
+    ``x``, which may bend away from the line (the error off ``u`` then grows along it). A
+    partner found is itself searched for a partner (a cluster of three: a solution found only
+    as a partner had its own missed)."""
     T = np.empty((4, 4))
     J = np.empty((6, 6))
     A = np.empty((6, 6))
@@ -2254,9 +2262,21 @@ def _partners(Td, K, out, count, mats):
         if curv == 0.0:
             continue
         t = -2.0 * S[5] / curv
-        if not abs(t) <= PARTNER_REACH:
-            continue
-        for i in range(6):
-            qt[i] = x[i] + t * Vt[5, i]
-        count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
+        before = count
+        if abs(t) <= PARTNER_REACH:
+            for i in range(6):
+                qt[i] = x[i] + t * Vt[5, i]
+            count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
+        if count == before:
+            # no partner on the line: the curve of nearly solutions through x bends away from
+            # x + t v (the error off u grows along the line), so follow it with the reduced
+            # residual in the joint v moves most, PARTNER_CELLS cells each way
+            j = 0
+            for i in range(6):
+                if abs(Vt[5, i]) > abs(Vt[5, j]):
+                    j = i
+            reach = PARTNER_REACH * abs(Vt[5, j])
+            for sg in (1.0, -1.0):
+                count = _reduced_scan(x.copy(), j, x[j], x[j] + sg * reach, PARTNER_CELLS, Td, K,
+                                      out, count, mats)
     return count
