@@ -6,8 +6,9 @@ stretched elbow, virtual wrist centre near axis 1 for robots without lateral off
 median, 99th percentile and worst time per call of ``robot.ik_all(T)`` (each pose the least of
 REPEATS calls) and how many source joint vectors were not among the answers (within 1e-6 rad; at a
 straight wrist through q4 + q7; beside a fully bent wrist within 1e-5, where the solver counts the
-two wrist solutions as one); then the IRB 5400's 100,000-pose round trip through
-``ik_all_batch`` with its miss count (issue 12 item 4). Run: ``python benchmarks/edges.py [N]``.
+two wrist solutions as one); then the poses of KNOWN_HARD one by one; then the IRB 5400's
+100,000-pose round trip through ``ik_all_batch`` with its miss count (issue 12 item 4).
+Run: ``python benchmarks/edges.py [N]``.
 """
 
 from __future__ import annotations
@@ -103,8 +104,47 @@ def main(argv: list[str]) -> int:
             t, missed = _time(robot, Q)
             print(f"{robot.name:14s} {kind:9s} {1e6 * np.median(t):8.1f} {1e6 * np.percentile(t, 99):8.1f} "
                   f"{1e6 * t.max():9.1f} {missed:7d}")
+    _known_hard(robots)
     _round_trip(ik7r.load_robot("irb5400"), np.random.default_rng(12), 100_000)
     return 0
+
+
+#: Single poses that were once the slowest found (item 8's 5 ms worst case), each timed on its own
+#: (robot name, source joints): a fresh sample of 1,000 poses per row finds them only now and then.
+KNOWN_HARD = [
+    # the residual within a few roundings of zero over a stretch: 8.6 ms before ISOLATE_BUDGET
+    ("offsets_b45", [-0.192151192291115, -0.6861864404744171, 1.4990314532170226, 1.666778220497875,
+                     2.3024452121628443, 2.8902781289586175]),
+    # the same next to the fully bent wrist of a 35 deg twist: 2.1 ms before ISOLATE_BUDGET
+    ("offsets_b35", [2.5226460001807283, -0.9382816531859186, 1.4014886777378939, -1.1438908085544641,
+                     3.141592411072742, -0.38797221005021676]),
+    # near the shoulder set, candidates within its straight-wrist window (theta5 < 0.2) scan
+    # twelve straight-wrist curves that find nothing new after the first: about 4.3 ms
+    ("rounded_gen2", [-2.5570514234111044, -1.5688991395606804, 1.3754483506832722, -2.8695768105084016,
+                      -0.16103639605109965, 2.295022266023664]),
+]
+
+#: tests/ik/test_deviating.py's generated(2): a member with offsets rounded like a datasheet
+_GEN2_DH = [[0.0, 0.0, 707.11, 0.0], [32.17, math.pi / 2, 0.0, 0.0], [1100.05, 0.0, 0.0, 0.0],
+            [182.14, math.pi / 2, 1012.74, 0.0], [0.0, -0.50479, 74.92, 0.0], [0.0, 1.00966, 74.87, 0.0],
+            [0.0, -0.50489, 63.31, 0.0]]
+
+
+def _known_hard(robots: list[Robot]) -> None:
+    """Time each pose of :data:`KNOWN_HARD` (the least of 5 calls) and check its source is found."""
+    by_name = {r.name: r for r in robots}
+    by_name["rounded_gen2"] = Robot(name="rounded_gen2", dh=np.array(_GEN2_DH))
+    print("known hard poses (us, least of 5 calls):")
+    for name, q in KNOWN_HARD:
+        robot = by_name[name]
+        T = robot.fk(np.array(q))
+        robot.ik_all(T)
+        best = math.inf
+        for _ in range(5):
+            t0 = time.perf_counter()
+            sols = robot.ik_all(T)
+            best = min(best, time.perf_counter() - t0)
+        print(f"  {name:14s} {1e6 * best:9.1f}   source found: {_found(robot, sols, np.array(q))}")
 
 
 def _round_trip(robot: Robot, rng, n: int) -> None:

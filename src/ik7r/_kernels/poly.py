@@ -38,7 +38,8 @@ ZERO_WIDTH = 1e-5  # an interval zero within rounding is split further while wid
 #: samples leave undecided is handed on undecided as well, not split down to WMIN: where the
 #: residual stays within a few roundings of zero over a stretch (an exact member with the elbow
 #: nearly stretched next to a 45 deg fold) every rounding wiggle was split to WMIN, 8,883
-#: samplings and 8.6 ms for one pose. No pose of 60,000 (ten robots) took more than SAMPLED.
+#: samplings and 8.6 ms for one pose (now 1,098 and 0.9 ms). Over 6,400 poses of eight robots
+#: none took more than 795 (median 1 to 11).
 ISOLATE_BUDGET = 1024
 REFINE_GRID = 32  # grid of an undecided bracket: sign changes and local minima of |f|
 MAX_DEGREE = 16
