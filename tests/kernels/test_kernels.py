@@ -448,3 +448,28 @@ def test_isolate_bounded_where_the_residual_stays_at_rounding(monkeypatch):
     F = reference_fk(robot, sols)
     assert np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=1).max() <= robot.position_tolerance
     assert len(sols) == 4
+
+
+def test_fold_gap_pair_is_the_fold_gap_of_each_elbow():
+    """``_fold_gap_pair`` (both elbow branches from one evaluation of the arm they share) gives
+    exactly :func:`_fold_gap`'s value and ``ok`` of each elbow, bit for bit, on a 45 deg member
+    with offsets (the fold scan's robots) over the fold span and below it; both ``ok`` occur."""
+    b = math.radians(45.0)
+    dh = np.array([[0, 0, 400, 0], [250, math.pi / 2, 0, 0], [1100, 0, 0, 0], [150, math.pi / 2, 1200, 0],
+                   [0, -b, 90, 0], [0, 2 * b, 90, 0], [0, -b, 110, 0]], float)
+    K = Robot(name="b45", dh=dh).kernel_params
+    Q = np.random.default_rng(1271).uniform(-np.pi, np.pi, (40, 6))
+    T07 = np.empty((4, 4))
+    th = np.empty(_complete._NTH)
+    seen = set()
+    for Td in Robot(name="b45", dh=dh).fk(Q):
+        _complete.frame07(Td, K, T07)
+        p, a = T07[:3, 3].copy(), T07[:3, 2] / np.linalg.norm(T07[:3, 2])
+        for sw in np.linspace(-0.15, 0.25, 41):
+            for front in (1.0, -1.0):
+                pair = _complete._fold_gap_pair(sw, p, a, front, K, th)
+                one = (_complete._fold_gap(sw, p, a, front, 1.0, K, th)
+                       + _complete._fold_gap(sw, p, a, front, -1.0, K, th))
+                assert pair == one, (sw, front)
+                seen.update((pair[1], pair[3]))
+    assert seen == {True, False}

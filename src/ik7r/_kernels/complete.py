@@ -252,14 +252,14 @@ _W, WORK_SIZE = _offsets(
     MATS=_NMATS * 16, P=3, A=3, TH=10, Q6=6, QQ=6,
     BLO=_NBRACKETS, BHI=_NBRACKETS, BSURE=_NBRACKETS, FOUND=REFINE_GRID + 2,
     BCOEF=_NBRACKETS * _NB, CAST=_NB, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP, NB=1,
-    SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES, FAM=4 * _NFAMILIES, NFAM=1,
+    SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES, FAM=4 * _NFAMILIES, NFAM=1, PAIR=2 * (SCAN_GRID + 1),
 )
 _MATS, _P, _A, _TH, _Q6, _QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"], _W["QQ"]
 _BLO, _BHI, _BSURE, _FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
 _BCOEF, _CAST, _ISO, _ROOTS = _W["BCOEF"], _W["CAST"], _W["ISO"], _W["ROOTS"]
 _NBK, _SCAN, _SUB = _W["NB"], _W["SCAN"], _W["SUB"]
 _NTH = 10  # the arm's cosines and sines, theta5, and O4 (see :func:`_fold_gap`)
-_FAM, _NFAM = _W["FAM"], _W["NFAM"]
+_FAM, _NFAM, _PAIR = _W["FAM"], _W["NFAM"], _W["PAIR"]
 
 
 # the one angle wrap, to (-pi, pi], and the exact reduction under it (ik7r.geometry.rotations)
@@ -1044,7 +1044,15 @@ def _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws,
     ``front1`` 2: the same scan of the fold gap (:func:`_scan_fold`). ``cells``: the first grid's
     (the pieces it adds have SCAN_GRID)."""
     sub = ws[_SUB:_SUB + 2 * SCAN_PIECES]
+    paired = abs(front1) == 2.0 and not tb - ta <= SCAN_TINY * (1.0 + abs(ta))
     for front in (front1, -front1):
+        if paired:
+            # the fold gap's two elbow branches share most of their arm: their first grids at once
+            th = ws[_TH:_TH + _NTH]
+            for i in range(cells + 1):
+                gp, okp, gm, okm = _fold_gap_pair(ta + (tb - ta) * i / cells, p, a, 0.5 * front, K, th)
+                ws[_PAIR + i] = gp if okp else np.nan
+                ws[_PAIR + SCAN_GRID + 1 + i] = gm if okm else np.nan
         for elbow in (1.0, -1.0):
             sub[0] = ta
             sub[1] = tb
@@ -1053,9 +1061,10 @@ def _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws,
             while j < npieces:
                 t0 = sub[2 * j]
                 t1 = sub[2 * j + 1]
+                given = (0 if elbow > 0.0 else 1) if paired and j == 0 else -1
                 count, npieces = _scan_piece(t0, t1, sub, npieces, front, elbow, p, a, R07,
                                              Td, K, hint, has_hint, out, count, filt, ws, mats,
-                                             cells if j == 0 else SCAN_GRID)
+                                             cells if j == 0 else SCAN_GRID, given)
                 j += 1
     return count
 
@@ -1135,12 +1144,13 @@ def _branch_end(t_in, t_out, p, a, front, elbow, K, th):
 
 @njit
 def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_hint, out,
-                count, filt, ws, mats, cells=SCAN_GRID):
+                count, filt, ws, mats, cells=SCAN_GRID, given=-1):
     """One grid of :func:`_scan_theta5` over [ta, tb] on one arm branch; the pieces next to
     branch ends and around dips it finds are appended to ``sub`` (while there is room: a piece
     is two cells of the one that found it, so they nest). In the fold scan of a deviating model
     a branch's end is itself a candidate (see FOLD_END_NEAR). ``cells``: the grid's (at most
-    SCAN_GRID). Returns (count, npieces)."""
+    SCAN_GRID). ``given`` >= 0: the grid's values are row ``given`` of the work block _PAIR
+    (:func:`_scan_theta5` evaluated them, both elbows at once). Returns (count, npieces)."""
     m = cells
     gs = ws[_SCAN:_SCAN + m + 1]
     th = ws[_TH:_TH + _NTH]
@@ -1160,8 +1170,11 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
         return _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt,
                               ws, mats), npieces
     for i in range(m + 1):
-        g, ok = _gap(ta + (tb - ta) * i / m, p, a, front, elbow, K, th)
-        gs[i] = g if ok else np.nan
+        if given >= 0:
+            gs[i] = ws[_PAIR + given * (SCAN_GRID + 1) + i]
+        else:
+            g, ok = _gap(ta + (tb - ta) * i / m, p, a, front, elbow, K, th)
+            gs[i] = g if ok else np.nan
     for i in range(m + 1):
         gi = gs[i]
         ti = ta + (tb - ta) * i / m
@@ -1331,6 +1344,33 @@ def _fold_gap(sw, p, a, front, elbow, K, th, t1_in=0.0, in_plane=False):
     into ``th[7:10]``. Returns (gap, ok); ok is False where the branch does not reach.
     ``in_plane``: theta1 is ``t1_in`` and the scaled virtual centre is taken in that arm plane
     (``front`` unused; see :func:`_fold_axis_gap`)."""
+    ok, half, psi0, gamma, t20, t1, ox, oy, oz = _fold_arm(sw, p, a, front, K, t1_in, in_plane)
+    if not ok:
+        return 0.0, False
+    return _fold_branch(elbow, half, psi0, gamma, t20, math.cos(t1), math.sin(t1), ox, oy, oz,
+                        sw, K, th)
+
+
+@njit
+def _fold_gap_pair(sw, p, a, front, K, th):
+    """:func:`_fold_gap` at ``sw`` on both elbow branches of the shoulder branch ``front`` (+-1):
+    (gap, ok) of elbow +1, then of elbow -1, from one evaluation of the part they share (the
+    centre, theta1, the elbow's half angle: about a third of a gap's transcendental calls). ``th``
+    holds the arm of elbow -1."""
+    ok, half, psi0, gamma, t20, t1, ox, oy, oz = _fold_arm(sw, p, a, front, K, 0.0, False)
+    if not ok:
+        return 0.0, False, 0.0, False
+    c1, s1 = math.cos(t1), math.sin(t1)
+    gp, okp = _fold_branch(1.0, half, psi0, gamma, t20, c1, s1, ox, oy, oz, sw, K, th)
+    gm, okm = _fold_branch(-1.0, half, psi0, gamma, t20, c1, s1, ox, oy, oz, sw, K, th)
+    return gp, okp, gm, okm
+
+
+@njit
+def _fold_arm(sw, p, a, front, K, t1_in, in_plane):
+    """The part of :func:`_fold_gap` its two elbow branches share: (ok, half, psi0, gamma, t20, t1,
+    ox, oy, oz): half the elbow's angle, psi = theta2 + theta3 and theta2 before the elbow's sign
+    (``psi0 + 2 elbow half``, ``t20 - elbow gamma``), theta1 (DH) and O, the centre of joint 6."""
     u = _u_fold(K) + sw * abs(sw)  # (sw < 0: u below the fold, scanned for deviating models)
     kw = K[L.KW]
     a1, a2, a3, b, e1, e3, scale = arm_params(K)
@@ -1351,10 +1391,11 @@ def _fold_gap(sw, p, a, front, elbow, K, th, t1_in=0.0, in_plane=False):
     else:
         r2 = hx * hx + hy * hy
         if r2 <= (1e-13 * scale * u) ** 2 + (1e-13 * kw) ** 2:
-            return 0.0, False  # the scaled virtual centre (nearly) on axis 1: _fold_axis_gap's
+            # the scaled virtual centre (nearly) on axis 1: _fold_axis_gap's
+            return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         disc = r2 - (u * b) ** 2
         if disc < -(1e-12 * scale * u) ** 2:
-            return 0.0, False
+            return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         rho = front * math.sqrt(max(disc, 0.0))  # u rho
         t1 = shoulder_angle(rho, hx, hy, u * bp)
     xx = rho - u * a1  # u X: the centre in the arm plane, from the shoulder
@@ -1362,7 +1403,7 @@ def _fold_gap(sw, p, a, front, elbow, K, th, t1_in=0.0, in_plane=False):
     nx = math.hypot(xx, xy)
     nv = math.hypot(u * a3, lh)  # u |v|, v = (a3, -eps3 L)
     if nx == 0.0 or nv == 0.0:
-        return 0.0, False
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     # |X|^2 - |v|^2 = D / u with the terms of order 1 / u^2 cancelled exactly
     dd = (u * (ox * ox + oy * oy + oz * oz - b * b + a1 * a1 + d1 * d1 - a3 * a3 - d4 * d4)
           - 2.0 * kw * (ox * a[0] + oy * a[1] + oz * a[2] + d4) - 2.0 * (a1 * rho + d1 * hz))
@@ -1370,15 +1411,27 @@ def _fold_gap(sw, p, a, front, elbow, K, th, t1_in=0.0, in_plane=False):
     dt = su * dd / (nx + nv)  # |X| - |v|
     s2 = a2 * a2 - dt * dt
     if s2 < -1e-12 * a2 * a2:
-        return 0.0, False  # the elbow does not reach
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0  # the elbow does not reach
     root = math.sqrt(max(s2, 0.0) / (nx * nv))
     half = math.asin(min(1.0, 0.5 * abs(u) * root))  # half the angle between X and R(psi) v
-    psi = math.atan2(xy, xx) - math.atan2(-e3 * lh, u * a3) + 2.0 * elbow * half
+    psi0 = math.atan2(xy, xx) - math.atan2(-e3 * lh, u * a3)
     # theta2: the angle at the shoulder between X and the upper arm (its sine from the law of
     # sines, both finite as u goes to 0)
     gamma = math.atan2(nv * root * math.cos(half) / a2, (su * dd + abs(u) * a2 * a2) / (2.0 * a2 * nx))
-    t2 = math.atan2(su * xy, su * xx) - elbow * gamma  # (a2 > 0: ik7r.robot.family.frame_dh)
-    c1, s1 = math.cos(t1), math.sin(t1)
+    t20 = math.atan2(su * xy, su * xx)  # (a2 > 0: ik7r.robot.family.frame_dh)
+    return True, half, psi0, gamma, t20, t1, ox, oy, oz
+
+
+@njit
+def _fold_branch(elbow, half, psi0, gamma, t20, c1, s1, ox, oy, oz, sw, K, th):
+    """The elbow branch ``elbow`` of :func:`_fold_gap` from its shared part (:func:`_fold_arm`;
+    ``c1``, ``s1``: theta1's cosine and sine): the arm into ``th``, the gap."""
+    a1, a2, a3, b, e1, e3, scale = arm_params(K)
+    d1 = K[L.D1]
+    d4 = K[L.D4]
+    bp = -e1 * b
+    psi = psi0 + 2.0 * elbow * half
+    t2 = t20 - elbow * gamma
     c2, s2_ = math.cos(t2), math.sin(t2)
     cp, sp = math.cos(psi), math.sin(psi)
     th[0], th[1], th[2] = c1, c2, cp * c2 + sp * s2_
@@ -1394,7 +1447,7 @@ def _fold_gap(sw, p, a, front, elbow, K, th, t1_in=0.0, in_plane=False):
     dx = ox - th[7]
     dy = oy - th[8]
     dz = oz - th[9]
-    return math.sqrt(dx * dx + dy * dy + dz * dz) / (2.0 * abs(kw)) - 1.0, True
+    return math.sqrt(dx * dx + dy * dy + dz * dz) / (2.0 * abs(K[L.KW])) - 1.0, True
 
 
 @njit
