@@ -233,6 +233,18 @@ def test_near_misses_with_a_steep_dip():
     assert misses(robot, Q) == []
 
 
+def test_near_miss_at_a_branch_end_beside_a_steep_grid_point():
+    """The rounded 45 deg robot, the elbow 0.077 rad from stretched: the nominal arm branch ends
+    (the elbow stretched) at theta5 = 2.5359, 0.004 rad before the source's 2.5399, with a near
+    miss of 3.6e-3 at the end; the grid point beside the end read 0.0512, just above GAP_NEAR_GRID,
+    so the end was never refined. Grid points beside an end are now refined up to GAP_NEAR_END
+    (seed 79 of 100,000 uniform poses: the source, its partner and two more, 6 -> 10 answers)."""
+    robot = Robot(name="rounded_b45", dh=_ROUNDED_B45_DH)
+    Q = np.array([[2.7685752806122386, 1.3867735694380254, -1.6475113947995188, 2.9339078678876174,
+                   2.539877991676917, 2.65139174516952]])
+    assert misses(robot, Q) == []
+
+
 def test_a_root_pair_at_the_start_of_the_straight_scan():
     """Two exact straight-wrist solutions (q5 = 0 exactly) of the rounded 45 deg robot whose
     splits q4 lie 0.055 rad apart, both within the first cell of the straight-wrist scan over

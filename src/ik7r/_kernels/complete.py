@@ -155,6 +155,10 @@ GAP_NEAR_DEPTH = 0.03
 #: (rad; 0.02 .. 0.025 seen on the rounded 45 deg robot of benchmarks/edges.py)
 FOLD_END_NEAR = 0.1
 GAP_NEAR_CELLS = 12
+#: ... and a grid point beside an arm branch's end (the elbow stretched) whose |gap| falls toward
+#: the end is refined up to the end when below this (rad): beside the stretch the gap is steep,
+#: and on the rounded 45 deg robot a grid point 0.0512 there had a near miss of 3.6e-3 at the end
+GAP_NEAR_END = 0.2
 #: Robots whose fully bent wrist is nearly folded back (``u = cos(2 beta)`` below FOLD_NEAR, a
 #: twist within about 0.6 deg of 45 deg): their virtual centre runs off to infinity near
 #: theta5 = pi, where the residual polynomial cannot be evaluated. The FOLD_SPAN of u next to
@@ -1083,7 +1087,7 @@ def _gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
     the elbow stretch a dip is a V that no parabola through three grid values shows) and, when it
     comes below GAP_NEAR_DEPTH without crossing zero, completed with the wrist and polished
     on the exact model (its partner: :func:`_partners`). Next to an end of the branch (the elbow
-    stretched), a grid point below GAP_NEAR_GRID whose ``|gap|`` falls toward the end has no
+    stretched), a grid point below GAP_NEAR_END whose ``|gap|`` falls toward the end has no
     defined neighbour there: the end is bisected for (:func:`_branch_end`) and the part between it
     and the point minimised the same way. Sign changes are the polynomial's."""
     m = GAP_NEAR_CELLS
@@ -1101,7 +1105,7 @@ def _gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mat
                 # (at an end of the range, the straight or fully bent wrist, the one neighbour
                 # is taken twice: a minimum there is refined over its one cell)
                 g0, g1, g2 = gs[max(i - 1, 1 - i)], gs[i], gs[min(i + 1, 2 * m - 1 - i)]
-                if (0 < i < m and abs(g1) < GAP_NEAR_GRID
+                if (0 < i < m and abs(g1) < GAP_NEAR_END
                         and math.isfinite(g0) != math.isfinite(g2)):
                     # the branch ends in the cell beside: a near miss between the end and this
                     # point (the elbow nearly stretched) has no grid point of its own
