@@ -245,6 +245,17 @@ def test_near_miss_at_a_branch_end_beside_a_steep_grid_point():
     assert misses(robot, Q) == []
 
 
+def test_fold_scan_branch_end_farther_from_zero():
+    """The rounded 45 deg robot, the wrist 0.19 rad from fully bent (in the fold scan's span) and
+    the elbow 0.017 rad from stretched: the nominal arm branch ends at sw = 0.0748, the source
+    is at sw = 0.0968 and the fold gap at the end is 0.152 (above the FOLD_END_NEAR of 0.1 that
+    made the end a candidate; seed 79 of 100,000 uniform poses: 4 -> 8 answers)."""
+    robot = Robot(name="rounded_b45", dh=_ROUNDED_B45_DH)
+    Q = np.array([[-0.7490931010367055, 1.666980030018082, -1.587599771390905, 2.649400875379105,
+                   2.9477060655402587, 0.9793127383569598]])
+    assert misses(robot, Q) == []
+
+
 def test_a_root_pair_at_the_start_of_the_straight_scan():
     """Two exact straight-wrist solutions (q5 = 0 exactly) of the rounded 45 deg robot whose
     splits q4 lie 0.055 rad apart, both within the first cell of the straight-wrist scan over
