@@ -20,7 +20,17 @@ import numpy as np
 from ..geometry import rotations
 from . import params as L
 from .arm import arm_ik, arm_params, arm_reach, shoulder_angle
-from .fk import dh_step_cs, fk_jacobian, fk_user, polish, pose_error, residual, solve6, user_angle
+from .fk import (
+    dh_angle,
+    dh_step_cs,
+    fk_jacobian,
+    fk_user,
+    polish,
+    pose_error,
+    residual,
+    solve6,
+    user_angle,
+)
 from .jit import njit, shared
 from .poly import (
     ISOLATE_WORK,
@@ -435,7 +445,7 @@ def _far(q0, q1):
 @njit
 def _theta5(q, K):
     """DH theta5 of ``q`` (user angles), wrapped to (-pi, pi]."""
-    return wrap(K[L.SIGN + 4] * q[4] + K[L.DH + 19])
+    return wrap(dh_angle(q, K, 4))
 
 
 @njit
@@ -1049,7 +1059,7 @@ def _scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws,
     ``front1`` 2: the same scan of the fold gap (:func:`_scan_fold`). ``cells``: the first grid's
     (the pieces it adds have SCAN_GRID)."""
     sub = ws[_SUB:_SUB + 2 * SCAN_PIECES]
-    paired = abs(front1) == 2.0 and not tb - ta <= SCAN_TINY * (1.0 + abs(ta))
+    paired = abs(front1) == 2.0 and not _tiny_piece(ta, tb)
     for front in (front1, -front1):
         if paired:
             # the fold gap's two elbow branches share most of their arm: their first grids at once
@@ -1148,6 +1158,12 @@ def _branch_end(t_in, t_out, p, a, front, elbow, K, th):
 
 
 @njit
+def _tiny_piece(ta, tb):
+    """Whether [ta, tb] is narrower than SCAN_TINY (relative to 1 + |ta|): not gridded."""
+    return tb - ta <= SCAN_TINY * (1.0 + abs(ta))
+
+
+@njit
 def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_hint, out,
                 count, filt, ws, mats, cells=SCAN_GRID, given=-1):
     """One grid of :func:`_scan_theta5` over [ta, tb] on one arm branch; the pieces next to
@@ -1160,7 +1176,7 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
     gs = ws[_SCAN:_SCAN + m + 1]
     th = ws[_TH:_TH + _NTH]
     near = SCAN_NEAR if K[L.DEVIATION] == 0.0 else SCAN_NEAR_DEVIATING
-    if tb - ta <= SCAN_TINY * (1.0 + abs(ta)):
+    if _tiny_piece(ta, tb):
         # a piece this narrow (an undecided bracket of the polynomial at its width limit) holds
         # roots within SCAN_TINY of each other, which its grid would not tell apart from rounding
         # (every grid point could look like a dip): its sign change, else its least |gap|
@@ -1976,7 +1992,7 @@ def _straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False):
     # the other sheet, from the mirror of the scanned one's least bent point: theta4 and theta7
     # half a turn on, theta5 of the other sign (the same wrist to first order in theta5)
     start[3] = wrap(start[3] + s4 * math.pi)
-    start[4] = user_angle(4, -(K[L.SIGN + 4] * start[4] + K[L.DH + 19]), K)
+    start[4] = user_angle(4, -dh_angle(start, K, 4), K)
     start[5] = wrap(start[5] + s7 * math.pi)
     return _reduced_scan(start, 3, start[3], start[3] + TWO_PI, REDUCED_GRID, Td, K, out, count,
                          mats)
@@ -2234,7 +2250,7 @@ def _other_wrists(R07, Td, K, out, count, ws, mats):
         if paired:
             continue
         for i in range(3):
-            t = K[L.SIGN + i] * out[s, i] + K[L.DH + 4 * i + 3]
+            t = dh_angle(out[s], K, i)
             th[i] = math.cos(t)
             th[3 + i] = math.sin(t)
         _arm_frame(th, R07, K, ws, mats)

@@ -19,7 +19,7 @@ MAX_POLISH_STEP = 0.1
 
 
 @njit
-def _dh_angle(q, K, i):
+def dh_angle(q, K, i):
     """DH angle of joint ``i`` (0-based) for user joints ``q`` (6,) (coupling folded in)."""
     if i < 5:
         return K[L.SIGN + i] * q[i] + K[L.DH + 4 * i + 3]
@@ -124,7 +124,7 @@ def fk_user(q, K, out):
     """World <- tool transform for user joints ``q`` (6,) (no allocation)."""
     _copy_param44(K, L.BASE, out)
     for i in range(7):
-        _dh_step(out, K, L.DH, L.TRIG, i, _dh_angle(q, K, i))
+        _dh_step(out, K, L.DH, L.TRIG, i, dh_angle(q, K, i))
     _times_tool(out, K)
 
 
@@ -142,7 +142,7 @@ def frames_batch(Q, K, out):
         _copy_param44(K, L.BASE, out[n, 0])
         for i in range(7):
             out[n, i + 1] = out[n, i]
-            _dh_step(out[n, i + 1], K, L.DH, L.TRIG, i, _dh_angle(Q[n], K, i))
+            _dh_step(out[n, i + 1], K, L.DH, L.TRIG, i, dh_angle(Q[n], K, i))
         out[n, 8] = out[n, 7]
         _times_tool(out[n, 8], K)
 
@@ -163,7 +163,7 @@ def fk_jacobian(q, K, T, J, ZO):
     pass over the chain (``ZO`` (7, 6) work array: each joint's axis and origin)."""
     _copy_param44(K, L.BASE, T)
     for i in range(7):
-        _dh_step(T, K, L.DH, L.TRIG, i, _dh_angle(q, K, i))
+        _dh_step(T, K, L.DH, L.TRIG, i, dh_angle(q, K, i))
         for r in range(3):
             ZO[i, r] = T[r, 2]
             ZO[i, 3 + r] = T[r, 3]
