@@ -120,6 +120,10 @@ KNOWN_HARD = [
                      3.141592411072742, -0.38797221005021676]),
     # near the shoulder set, candidates within its straight-wrist window (theta5 < 0.2) scan
     # twelve straight-wrist curves that find nothing new after the first: about 4.3 ms
+    # a straight wrist beside the shoulder set: 26 whole-turn straight-wrist scans of 4 curves,
+    # 17 ms (on a machine where the paper robot's median is 17 us) before scans joined a curve
+    ("rounded_b45", [0.4501849955241335, 1.3315137868387232, 2.105068308873941, -0.36118377721668216,
+                     0.0, -0.7134564149856786]),
     ("rounded_gen2", [-2.5570514234111044, -1.5688991395606804, 1.3754483506832722, -2.8695768105084016,
                       -0.16103639605109965, 2.295022266023664]),
 ]

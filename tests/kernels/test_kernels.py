@@ -473,3 +473,60 @@ def test_fold_gap_pair_is_the_fold_gap_of_each_elbow():
                 assert pair == one, (sw, front)
                 seen.update((pair[1], pair[3]))
     assert seen == {True, False}
+
+
+def test_reduced_scans_that_join_a_curve_take_its_grid(monkeypatch):
+    """The rounded 45 deg robot of benchmarks/edges.py at a straight wrist near the shoulder set:
+    its candidates, up to 0.3 rad apart in q1, each began a whole-turn reduced scan of their
+    straight-wrist family (26 scans of 4 curves, 17 ms compiled, over item 8's 5 ms). A scan
+    whose two last grid points coincide with an earlier one's (SCAN_MEMO_TOL) has joined its
+    curve and takes the rest of its grid, and its cells' refinement, from that scan: starts 0.3
+    and 0.6 rad off in q1 evaluate a few grid points, not REDUCED_GRID + 1, and add nothing the
+    first did not; a start on another arm branch tracks a curve of its own. Every solution the
+    scans add is exact (reference forward kinematics)."""
+    b = math.radians(45.0)
+    dh = np.array([[0, 0, 400, 0], [250, math.pi / 2, 0, 0], [1100, 0, 0, 0], [150, math.pi / 2, 1200, 0],
+                   [0, -b, 90, 0], [0, 2 * b - 1e-4, 90.1, 0], [0, -b, 110, 0]], float)
+    robot = Robot(name="rounded_b45", dh=dh)
+    q = np.array([0.4501849955241335, 1.3315137868387232, 2.105068308873941, -0.36118377721668216,
+                  0.0, -0.7134564149856786])
+    T = robot.fk(q)
+    K = robot.kernel_params
+    s4, s7 = robot.joint_sign[3], robot.joint_sign[6]
+    ws = np.empty(_complete.WORK_SIZE)
+    ws[_complete._NRSCAN] = 0.0
+    mats = ws[_complete._MATS:_complete._MATS + _complete._NMATS * 16].reshape((_complete._NMATS, 4, 4))
+    mats[_complete._MEMO_N, 0, 0] = 0.0
+    out = np.empty((64, 6))
+    evaluations = [0]
+    compiled = _complete._reduced_at
+
+    def counted(*args):
+        evaluations[0] += 1
+        return compiled(*args)
+
+    monkeypatch.setattr(_complete, "_reduced_at", counted)  # (seen by _reduced_scan's original)
+
+    def scan(arm, count):
+        """The family's scan as _straight_family starts it: q4 = -pi, q5 = 0, the sum kept."""
+        total = s4 * q[3] + s7 * q[5]
+        start = np.array([arm[0], arm[1], arm[2], -math.pi, 0.0, s7 * (total + s4 * math.pi)])
+        evaluations[0] = 0
+        count = _complete._reduced_scan.py_func(start, 3, -math.pi, math.pi, _complete.REDUCED_GRID,
+                                                T, K, out, count, ws, mats)
+        return count, evaluations[0], int(ws[_complete._NRSCAN])
+
+    count, first, curves = scan(q[:3], 0)
+    assert count >= 1 and first >= _complete.REDUCED_GRID + 1 and curves == 1
+    for dq1 in (0.3, -0.3, 0.6):
+        again, joined, curves = scan(q[:3] + [dq1, 0.0, 0.0], count)
+        assert again == count and curves == 1, (dq1, again, curves)
+        assert joined <= 12, (dq1, joined)
+    other = robot.ik_all(T)
+    other = other[np.abs(wrap(other[:, 1] - q[1])) > 0.5][0]  # the other elbow's arm
+    more, own, curves = scan(other[:3], count)
+    assert curves == 2 and own >= _complete.REDUCED_GRID + 1
+    assert more > count
+    F = reference_fk(robot, out[:more])
+    assert np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=1).max() <= robot.position_tolerance
+    assert np.abs(F[:, :3, :3] - T[:3, :3]).max() <= 2 * robot.rotation_tolerance

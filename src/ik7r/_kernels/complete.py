@@ -260,6 +260,17 @@ STALL_PATIENCE = 6
 #: (rad; the error left is of the order of its square): the forward kinematics that would verify
 #: it is not needed there.
 HOMOTOPY_SETTLE = 1e-4
+#: The whole-turn reduced scans of this pose (:func:`_reduced_scan` over REDUCED_GRID cells) that
+#: tracked a curve of their own, SCAN_MEMO of them (a ring). A later scan over the same grid
+#: whose two last points coincide with an earlier one's within SCAN_MEMO_TOL (rad, every joint)
+#: has joined its curve: the rest of its grid is that scan's (each point is Gauss-Newton from
+#: the extrapolation of the two before it), and so is the refinement of every cell whose points
+#: coincide. Near the shoulder set the candidates of one straight-wrist family, up to 0.3 rad
+#: apart in q1, each track the same two sheets (a rounded 45 deg robot: 26 scans of 4 curves).
+SCAN_MEMO = 16
+SCAN_MEMO_TOL = 1e-9
+_SCAN_HEAD = 5  # j, v0, v1, m, closed; then per grid point its six joints, r and |e|
+_SCAN_SLOT = _SCAN_HEAD + 8 * (REDUCED_GRID + 1)
 _MEMO = 7
 _MEMO_N = _MEMO + MEMO_SIZE // 2
 _NMATS = _MEMO_N + 1
@@ -268,6 +279,7 @@ _W, WORK_SIZE = _offsets(
     BLO=_NBRACKETS, BHI=_NBRACKETS, BSURE=_NBRACKETS, FOUND=REFINE_GRID + 2,
     BCOEF=_NBRACKETS * _NB, CAST=_NB, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP, NB=1,
     SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES, FAM=4 * _NFAMILIES, NFAM=1, PAIR=2 * (SCAN_GRID + 1),
+    RSCAN=SCAN_MEMO * _SCAN_SLOT, NRSCAN=1,
 )
 _MATS, _P, _A, _TH, _Q6, _QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"], _W["QQ"]
 _BLO, _BHI, _BSURE, _FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
@@ -275,6 +287,7 @@ _BCOEF, _CAST, _ISO, _ROOTS = _W["BCOEF"], _W["CAST"], _W["ISO"], _W["ROOTS"]
 _NBK, _SCAN, _SUB = _W["NB"], _W["SCAN"], _W["SUB"]
 _NTH = 10  # the arm's cosines and sines, theta5, and O4 (see :func:`_fold_gap`)
 _FAM, _NFAM, _PAIR = _W["FAM"], _W["NFAM"], _W["PAIR"]
+_RSCAN, _NRSCAN = _W["RSCAN"], _W["NRSCAN"]
 
 
 # the one angle wrap, to (-pi, pi], and the exact reduction under it (ik7r.geometry.rotations)
@@ -1341,7 +1354,8 @@ def _shoulder_exact(t1, elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
         for v_end in (v_lo, v_hi):
             # (the start into qq: _reduced_scan reads it once, before it adds anything)
             _with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
-            count = _reduced_scan(qq, 0, q[0], v_end, SHOULDER_CELLS, Td, K, out, count, mats)
+            count = _reduced_scan(qq, 0, q[0], v_end, SHOULDER_CELLS, Td, K, out, count, ws,
+                                  mats)
     return count
 
 
@@ -1852,6 +1866,7 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
         a[i] /= na
     roots = ws[_ROOTS:_ROOTS + ROOT_CAP]
     ws[_NFAM] = 0.0
+    ws[_NRSCAN] = 0.0
     mats[_MEMO_N, 0, 0] = 0.0
     nr = _roots(0, p, a, K, Bm, bnorm, roots, ws)
     count = 0
@@ -1903,7 +1918,7 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
     count = _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
     if K[L.DEVIATION] > 0.0:
         count = _gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
-        count = _partners(Td, K, out, count, mats)
+        count = _partners(Td, K, out, count, ws, mats)
         count = _other_wrists(R07, Td, K, out, count, ws, mats)
     if folded:
         count = _merge_folded(out, count)
@@ -1986,7 +2001,8 @@ def _straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False):
     start[3] = -math.pi
     start[4] = user_angle(4, 0.0, K)
     start[5] = s7 * (total + s4 * math.pi)
-    count = _reduced_scan(start, 3, -math.pi, math.pi, REDUCED_GRID, Td, K, out, count, mats)
+    count = _reduced_scan(start, 3, -math.pi, math.pi, REDUCED_GRID, Td, K, out, count, ws,
+                          mats)
     if not sheets:
         return count
     # the other sheet, from the mirror of the scanned one's least bent point: theta4 and theta7
@@ -1995,7 +2011,7 @@ def _straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False):
     start[4] = user_angle(4, -dh_angle(start, K, 4), K)
     start[5] = wrap(start[5] + s7 * math.pi)
     return _reduced_scan(start, 3, start[3], start[3] + TWO_PI, REDUCED_GRID, Td, K, out, count,
-                         mats)
+                         ws, mats)
 
 
 @njit
@@ -2129,15 +2145,84 @@ def _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO):
             return  # (the polish of _accept takes it to the last bits)
 
 
+@njit
+def _cell_kind(rs, es, k, kb, closed):
+    """What the reduced scan refines in its cell ``k`` (grid values ``rs`` signed, ``es`` the
+    error's norm; ``kb`` the point before ``k``, on a closed curve m - 1 for k = 0): 1 a sign
+    change, 2 a dip of ``|e|`` toward zero without one (:func:`_dips_to_zero`), 0 nothing."""
+    ra = rs[k]
+    rb = rs[k + 1]
+    if not (math.isfinite(ra) and math.isfinite(rb)):
+        return 0
+    if ra * rb < 0.0:
+        return 1
+    if ((0 < k or closed) and es[k] <= es[kb] and es[k] <= es[k + 1]
+            and math.isfinite(rs[kb]) and rs[kb] * ra > 0.0 and _dips_to_zero(rs[kb], ra, rb)):
+        return 2
+    return 0
+
+
+@njit
+def _scan_seen(memo, n, j, v0, v1, m, qs, kind, k, kb):
+    """Whether an earlier reduced scan of this pose (``memo``, ``n`` of them: see SCAN_MEMO)
+    over the same grid (joint ``j``, [v0, v1], ``m`` cells) refined its cell ``k`` the same
+    way (``kind``, see :func:`_cell_kind`) from the same points: ``k`` and ``k + 1`` (and
+    ``kb`` for a dip) within SCAN_MEMO_TOL of ``qs``'. Its candidates are then this cell's."""
+    for s in range(min(n, SCAN_MEMO)):
+        slot = memo[s * _SCAN_SLOT:(s + 1) * _SCAN_SLOT]
+        if slot[0] != j or slot[1] != v0 or slot[2] != v1 or slot[3] != m:
+            continue
+        pts = slot[_SCAN_HEAD:_SCAN_HEAD + 8 * (m + 1)].reshape((m + 1, 8))
+        if _cell_kind(pts[:, 6], pts[:, 7], k, kb, slot[4] != 0.0) != kind:
+            continue
+        same = _far(pts[k], qs[k]) <= SCAN_MEMO_TOL and _far(pts[k + 1], qs[k + 1]) <= SCAN_MEMO_TOL
+        if same and (kind == 1 or _far(pts[kb], qs[kb]) <= SCAN_MEMO_TOL):
+            return True
+    return False
+
+
+@njit
+def _scan_joined(memo, n, j, v0, v1, m, qs, k):
+    """The earlier reduced scan of this pose (``memo``, ``n`` of them: see SCAN_MEMO) over the
+    same grid whose points ``k - 2`` and ``k - 1`` are within SCAN_MEMO_TOL of ``qs``', or -1."""
+    for s in range(min(n, SCAN_MEMO)):
+        slot = memo[s * _SCAN_SLOT:(s + 1) * _SCAN_SLOT]
+        if slot[0] != j or slot[1] != v0 or slot[2] != v1 or slot[3] != m:
+            continue
+        pts = slot[_SCAN_HEAD:_SCAN_HEAD + 8 * (m + 1)].reshape((m + 1, 8))
+        if _far(pts[k - 2], qs[k - 2]) <= SCAN_MEMO_TOL and _far(pts[k - 1], qs[k - 1]) <= SCAN_MEMO_TOL:
+            return s
+    return -1
+
+
+@njit
+def _scan_keep(memo, n, j, v0, v1, m, qs, rs, es, closed):
+    """Record a reduced scan's grid in the ring ``memo`` as its ``n``-th (see SCAN_MEMO)."""
+    slot = memo[(n % SCAN_MEMO) * _SCAN_SLOT:(n % SCAN_MEMO + 1) * _SCAN_SLOT]
+    slot[0] = j
+    slot[1] = v0
+    slot[2] = v1
+    slot[3] = m
+    slot[4] = 1.0 if closed else 0.0
+    pts = slot[_SCAN_HEAD:_SCAN_HEAD + 8 * (m + 1)].reshape((m + 1, 8))
+    for k in range(m + 1):
+        for i in range(6):
+            pts[k, i] = qs[k, i]
+        pts[k, 6] = rs[k]
+        pts[k, 7] = es[k]
+
+
 @njit(allocates=True)
-def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
+def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
     """Every exact solution on the branch of the reduced residual (:func:`_reduced_at`) with
-    joint ``j`` over [v0, v1], tracked from ``start`` on a grid of ``m`` cells (each point
-    Gauss-Newton from the extrapolation of the two before it): sign changes refined by Illinois
-    in ``v``, dips toward zero (tangencies, two roots in one cell) by Brent's minimiser on the
-    signed residual and split at its bottom; each candidate is verified (polished) on the exact
-    forward kinematics and added. On return ``start`` holds the grid point whose wrist is the
-    least bent (see :func:`_straight_family`)."""
+    joint ``j`` over [v0, v1], tracked from ``start`` on a grid of ``m`` <= REDUCED_GRID cells
+    (each point Gauss-Newton from the extrapolation of the two before it): sign changes refined
+    by Illinois in ``v``, dips toward zero (tangencies, two roots in one cell) by Brent's
+    minimiser on the signed residual and split at its bottom; each candidate is verified
+    (polished) on the exact forward kinematics and added. A cell an earlier scan of the pose
+    refined from the same points is not refined again (:func:`_scan_seen`). On return
+    ``start`` holds the grid point whose wrist is the least bent (see
+    :func:`_straight_family`)."""
     T = np.empty((4, 4))
     J = np.empty((6, 6))
     A = np.empty((6, 6))
@@ -2149,7 +2234,20 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
     rs = np.empty(m + 1)
     es = np.empty(m + 1)
     qt = np.empty(6)
+    memo = ws[_RSCAN:_RSCAN + SCAN_MEMO * _SCAN_SLOT]
+    n = int(ws[_NRSCAN]) if m == REDUCED_GRID else 0
+    joined = -1
     for k in range(m + 1):
+        if joined < 0 and k >= 2:
+            joined = _scan_joined(memo, n, j, v0, v1, m, qs, k)
+        if joined >= 0:
+            # (the earlier scan's point k: Gauss-Newton from the same start; added if exact then)
+            pts = memo[joined * _SCAN_SLOT + _SCAN_HEAD:(joined + 1) * _SCAN_SLOT]
+            for i in range(6):
+                qs[k, i] = pts[8 * k + i]
+            rs[k] = pts[8 * k + 6]
+            es[k] = pts[8 * k + 7]
+            continue
         for i in range(6):
             if k == 0:
                 qt[i] = start[i]
@@ -2174,16 +2272,16 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
         vb = v0 + (v1 - v0) * (k + 1) / m
         ra = rs[k]
         rb = rs[k + 1]
-        if not (math.isfinite(ra) and math.isfinite(rb)):
-            continue
         kb = k - 1 if k > 0 else m - 1  # (the point before; k = 0 only on a closed curve)
-        if ra * rb < 0.0:
+        kind = _cell_kind(rs, es, k, kb, closed)
+        if kind == 0 or _scan_seen(memo, n, j, v0, v1, m, qs, kind, k, kb):
+            continue
+        if kind == 1:
             for i in range(6):
                 qt[i] = qs[k, i]
             _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO)
             count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
-        elif ((0 < k or closed) and es[k] <= es[kb] and es[k] <= es[k + 1]
-              and math.isfinite(rs[kb]) and rs[kb] * ra > 0.0 and _dips_to_zero(rs[kb], ra, rb)):
+        else:
             # a dip of |e| without a sign change: a tangency, or two roots within one cell; where
             # the bottom has the other sign, both roots are refined
             for i in range(6):
@@ -2209,6 +2307,9 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, mats):
                     _reduced_root(qt, j, min(vx, vm), max(vx, vm), rx if vx < vm else rm,
                                   rm if vx < vm else rx, Td, K, T, J, A, e, g, dq, ZO)
                     count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
+    if m == REDUCED_GRID and joined < 0:
+        _scan_keep(memo, n, j, v0, v1, m, qs, rs, es, closed)
+        ws[_NRSCAN] = n + 1
     least = math.inf
     for k in range(m + 1):
         t5 = _bend(qs[k], K)
@@ -2286,7 +2387,7 @@ def _condition_frobenius(J, A, b, x):
 
 
 @njit(allocates=True)
-def _partners(Td, K, out, count, mats):
+def _partners(Td, K, out, count, ws, mats):
     """Solutions of a deviating model next to a nearly singular one. Where the exact model has
     two solutions close together whose idealised counterparts are complex (or merged), the
     polish of every idealised candidate can land on one of them. At a solution ``x`` with the
@@ -2352,5 +2453,5 @@ def _partners(Td, K, out, count, mats):
             reach = PARTNER_REACH * abs(Vt[5, j])
             for sg in (1.0, -1.0):
                 count = _reduced_scan(x.copy(), j, x[j], x[j] + sg * reach, PARTNER_CELLS, Td, K,
-                                      out, count, mats)
+                                      out, count, ws, mats)
     return count
