@@ -233,6 +233,17 @@ def test_near_misses_with_a_steep_dip():
     assert misses(robot, Q) == []
 
 
+def test_shoulder_pair_just_beyond_the_exact_window():
+    """The rounded 35 deg robot, the line of virtual centres 3.23e-4 of the size from axis 1 (just
+    beyond SHOULDER_EXACT_NEAR): the deviation moves the exact solutions 0.1 to 0.2 rad in theta1
+    from the nominal dip, which the nominal candidates' polish did not reach; the exact window
+    now reaches out to SHOULDER_EXACT_FAR with a shrinking reach."""
+    robot = Robot(name="rounded_b35", dh=_rounded_dh(35.0))
+    Q = np.array([[2.3247728451126273, -3.129113346885165, -2.5506873539574535, 0.65679533213327,
+                   -0.8354916065634788, -1.5122002291260193]])
+    assert misses(robot, Q) == []
+
+
 def test_near_miss_at_a_branch_end_beside_a_steep_grid_point():
     """The rounded 45 deg robot, the elbow 0.077 rad from stretched: the nominal arm branch ends
     (the elbow stretched) at theta5 = 2.5359, 0.004 rad before the source's 2.5399, with a near

@@ -183,6 +183,25 @@ def test_fully_bent_wrist_approach_along_axis_1(name):
     assert misses == []
 
 
+def test_two_fold_axis_roots_within_one_nested_cell():
+    """The mirrored 45 deg robot, approach along axis 1 to 5e-14 and q5 1.2e-7 from -180 deg: the
+    fold gap in theta1 has two roots 1.8e-3 rad apart (the source's and a folded solution's), in
+    one cell of the nest the other scans stop at; minimising |gap| over the cell found only the
+    other one (the source 9.1e-3 rad from every answer; a CI machine's least squares made this
+    source in the test above). The dip is now nested down to SCAN_NEST_FOLD_AXIS of the turn."""
+    robot = ROBOTS["b-45_mirrored"]
+    q = np.array([0.5911649784448096, 1.0291078465289676, 0.9291078465290449, -1.0780873082746185,
+                  -3.141592536238952, 2.1484049706664745])
+    T = eq1_fk(robot, q)
+    assert np.abs(T[:2, 2]).max() < 1e-13  # (the approach along axis 1)
+    sols = robot.ik_all(T)
+    assert_exact(robot, sols, T)
+    assert found(robot, sols, q, T)
+    s = robot.ik(T, int(robot.config_of(q)), seed=q)
+    assert_exact(robot, s[None], T)
+    assert np.abs(wrap(s - q)).max() < ONE_SOLUTION
+
+
 @pytest.mark.parametrize("name", ["paper", "b44.8"])
 def test_nearly_folded_pair_returned_both(name):
     """Beside the fold, farther than 5e-6 rad (beyond one solution, ONE_SOLUTION apart), the two

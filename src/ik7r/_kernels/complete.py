@@ -118,6 +118,13 @@ SINGULAR_ALONE = 1e-3
 #: zero (rad) a local minimum of its bend gap must come to be a candidate (exact, deviating).
 SCAN_GRID = 32
 SCAN_PIECES = 12  # the grid and the pieces (next to branch ends, around dips) it may add
+#: A dip that reaches (nearly) zero is scanned again on a grid of its own while its two cells
+#: are at least SCAN_NEST of the scanned range wide, SCAN_NEST_FOLD_AXIS in the fold gap in
+#: theta1 (:func:`_fold_axis_gap`): there a vertical approach next to the fold leaves two roots
+#: 1.8e-3 rad apart in theta1 (b-45_mirrored, q5 1.2e-7 from pi), one grid cell of the nest
+#: SCAN_NEST allows, and minimising |gap| over the cell finds only one of them.
+SCAN_NEST = 1e-2
+SCAN_NEST_FOLD_AXIS = 1e-4
 #: Pieces narrower than this (relative to 1 + |start|, in their own variable) are not gridded:
 #: one candidate from their sign change or their least |gap| (see :func:`_scan_piece`).
 SCAN_TINY = 1e-10
@@ -144,8 +151,13 @@ SHOULDER_DIP = 0.1
 SHOULDER_REACH = 0.4
 SHOULDER_CELLS = 8
 #: ... where the line of virtual centres passes this close (relative to the robot's size) to
-#: axis 1 (1.0 mm on the IRB 5400, whose such clusters were measured within 0.6 mm)
+#: axis 1 (1.0 mm on the IRB 5400, whose such clusters were measured within 0.6 mm); out to
+#: SHOULDER_EXACT_FAR the reach shrinks as SHOULDER_EXACT_NEAR / r (the deviation moves the
+#: virtual centre by about a fixed distance, so the exact solutions move by about its angle
+#: seen from axis 1), on proportionally fewer cells (at least 2): a rounded 35 deg robot's
+#: source 0.1 to 0.2 rad from the dip, the line 3.23e-4 of the size from axis 1
 SHOULDER_EXACT_NEAR = 3e-4
+SHOULDER_EXACT_FAR = 5e-4
 #: Models that deviate from the idealised one: theta5 within this (rad) of 0 and pi is scanned
 #: when a root lies there.
 DEVIATING_ENDS = 2e-2
@@ -1264,7 +1276,8 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
             if (front == 0.0 and K[L.DEVIATION] > 0.0 and fm < SHOULDER_DIP and ta == sub[0]
                     and tb == sub[1]):
                 count = _shoulder_exact(tm, elbow, p, a, R07, Td, K, hint, out, count, ws, mats)
-            if fm < near and npieces < SCAN_PIECES and t_hi - t_lo >= 1e-2 * (sub[1] - sub[0]):
+            nest = SCAN_NEST_FOLD_AXIS if front == 3.0 else SCAN_NEST
+            if fm < near and npieces < SCAN_PIECES and t_hi - t_lo >= nest * (sub[1] - sub[0]):
                 # a dip that reaches (nearly) zero may hide more than one root: scan it again
                 # on a grid of its own
                 sub[2 * npieces] = t_lo
@@ -1328,14 +1341,18 @@ def _shoulder_exact(t1, elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
     other joints are regular, so they are the zeros of the exact model's reduced residual in q1
     (:func:`_reduced_at`), tracked from the nominal arm and wrist at the dip (both wrist signs)
     SHOULDER_REACH either way (:func:`_reduced_scan`). Only where the line of virtual
-    centres passes within SHOULDER_EXACT_NEAR of the robot's size from axis 1: further out the
+    centres passes within SHOULDER_EXACT_FAR of the robot's size from axis 1, beyond
+    SHOULDER_EXACT_NEAR with the reach shrinking as its distance grows: further out the
     nominal candidates and their polish find these solutions."""
     axy2 = a[0] * a[0] + a[1] * a[1]
     t = (p[0] * a[0] + p[1] * a[1]) / axy2  # (axy2 > 0: _scan_shoulder checked)
     rx = p[0] - t * a[0]
     ry = p[1] - t * a[1]
-    if rx * rx + ry * ry > (SHOULDER_EXACT_NEAR * K[L.SCALE]) ** 2:
+    r = math.sqrt(rx * rx + ry * ry) / K[L.SCALE]
+    if r > SHOULDER_EXACT_FAR:
         return count
+    reach = SHOULDER_REACH if r <= SHOULDER_EXACT_NEAR else SHOULDER_REACH * SHOULDER_EXACT_NEAR / r
+    cells = max(2, int(math.ceil(SHOULDER_CELLS * reach / SHOULDER_REACH)))
     th = ws[_TH:_TH + _NTH]
     _, ok = _shoulder_gap(t1, p, a, elbow, K, th)
     if not ok:
@@ -1346,16 +1363,15 @@ def _shoulder_exact(t1, elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
     qq = ws[_QQ:_QQ + 6]
     t5 = th[6]
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
-    v_lo = user_angle(0, t1 - SHOULDER_REACH, K)
-    v_hi = user_angle(0, t1 + SHOULDER_REACH, K)
+    v_lo = user_angle(0, t1 - reach, K)
+    v_hi = user_angle(0, t1 + reach, K)
     v_lo = q[0] + wrap(v_lo - q[0])
     v_hi = q[0] + wrap(v_hi - q[0])
     for sgn in (1.0, -1.0):
         for v_end in (v_lo, v_hi):
             # (the start into qq: _reduced_scan reads it once, before it adds anything)
             _with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
-            count = _reduced_scan(qq, 0, q[0], v_end, SHOULDER_CELLS, Td, K, out, count, ws,
-                                  mats)
+            count = _reduced_scan(qq, 0, q[0], v_end, cells, Td, K, out, count, ws, mats)
     return count
 
 
