@@ -244,6 +244,23 @@ def test_shoulder_pair_just_beyond_the_exact_window():
     assert misses(robot, Q) == []
 
 
+@pytest.mark.xfail(strict=True, reason="issue 12 item 4, open: inside the shoulder exact window "
+                   "(the line of virtual centres 8.3e-5 and 1.1e-5 of the size from axis 1) "
+                   "the reduced scan misses these; SHOULDER_CELLS 16 finds the first, "
+                   "SHOULDER_REACH 0.8 the second (cost not yet measured); docs/guide/edges.md")
+@pytest.mark.parametrize("q", [
+    [0.7209082426552142, 0.9325385921848972, 2.8873900467699958, -1.0109682965713578,
+     0.3336079655611064, 3.0273850288882596],
+    [0.3971927329301286, 1.7331409364855663, 1.5047010726017307, -2.9137974516190157,
+     -0.13602331436771609, 1.0025899954174422],
+])
+def test_irb5400_inside_the_shoulder_exact_window(irb, q):
+    """Two IRB 5400 sources of a near-shoulder generator (q2 solved so that the line of virtual
+    centres passes 1e-6 .. 2e-3 of the size from axis 1): known misses, kept strict so that the
+    fix that finds them has to say so."""
+    assert misses(irb, np.array([q])) == []
+
+
 def test_near_miss_at_a_branch_end_beside_a_steep_grid_point():
     """The rounded 45 deg robot, the elbow 0.077 rad from stretched: the nominal arm branch ends
     (the elbow stretched) at theta5 = 2.5359, 0.004 rad before the source's 2.5399, with a near
