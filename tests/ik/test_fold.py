@@ -170,17 +170,21 @@ def test_fully_bent_wrist_approach_along_axis_1(name):
     indicators."""
     robot = ROBOTS[name] or ik7r.load_robot()
     rng = np.random.default_rng(1240 + list(ROBOTS).index(name))
-    misses = []
-    for q in vertical_fold_sources(robot, rng, 16):
-        T = eq1_fk(robot, q)
-        sols = robot.ik_all(T)
-        assert_exact(robot, sols, T)
-        if not found(robot, sols, q, T):
-            misses.append(q.tolist())
-        s = robot.ik(T, int(robot.config_of(q)), seed=q)
-        assert_exact(robot, s[None], T)
-        assert np.array_equal(robot.indicators(s)[:2], robot.indicators(q)[:2])
+    misses = [q.tolist() for q in vertical_fold_sources(robot, rng, 16) if not solved(robot, q)]
     assert misses == []
+
+
+def solved(robot, q):
+    """Whether the source ``q`` is among ``ik_all``'s answers (every answer exact); ``ik`` for its
+    configuration, seeded with it, must return an exact solution with its Arm and Elbow
+    indicators either way."""
+    T = eq1_fk(robot, q)
+    sols = robot.ik_all(T)
+    assert_exact(robot, sols, T)
+    s = robot.ik(T, int(robot.config_of(q)), seed=q)
+    assert_exact(robot, s[None], T)
+    assert np.array_equal(robot.indicators(s)[:2], robot.indicators(q)[:2])
+    return found(robot, sols, q, T)
 
 
 def test_two_fold_axis_roots_within_one_nested_cell():
@@ -194,11 +198,8 @@ def test_two_fold_axis_roots_within_one_nested_cell():
                   -3.141592536238952, 2.1484049706664745])
     T = eq1_fk(robot, q)
     assert np.abs(T[:2, 2]).max() < 1e-13  # (the approach along axis 1)
-    sols = robot.ik_all(T)
-    assert_exact(robot, sols, T)
-    assert found(robot, sols, q, T)
+    assert solved(robot, q)
     s = robot.ik(T, int(robot.config_of(q)), seed=q)
-    assert_exact(robot, s[None], T)
     assert np.abs(wrap(s - q)).max() < ONE_SOLUTION
 
 
