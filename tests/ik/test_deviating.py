@@ -11,6 +11,7 @@ import math
 import numpy as np
 import pytest
 from helpers import source_distance
+from reference_ik import singular_joints
 
 import ik7r
 from ik7r.robot import Robot
@@ -244,21 +245,72 @@ def test_shoulder_pair_just_beyond_the_exact_window():
     assert misses(robot, Q) == []
 
 
-@pytest.mark.xfail(strict=True, reason="issue 12 item 4, open: inside the shoulder exact window "
-                   "(the line of virtual centres 8.3e-5 and 1.1e-5 of the size from axis 1) "
-                   "the reduced scan misses these; SHOULDER_CELLS 16 finds the first, "
-                   "SHOULDER_REACH 0.8 the second (cost not yet measured); docs/guide/edges.md")
-@pytest.mark.parametrize("q", [
-    [0.7209082426552142, 0.9325385921848972, 2.8873900467699958, -1.0109682965713578,
-     0.3336079655611064, 3.0273850288882596],
-    [0.3971927329301286, 1.7331409364855663, 1.5047010726017307, -2.9137974516190157,
-     -0.13602331436771609, 1.0025899954174422],
+def _near_shoulder_robot(name, irb):
+    """The robots of the near-shoulder tests: the IRB 5400 (``irb``), the rounded 35 and 45 deg
+    robots of ``benchmarks/edges.py`` and :func:`generated`'s seed 2."""
+    if name == "irb5400":
+        return irb
+    if name == "rounded2":
+        return generated(2)
+    return Robot(name=name, dh=_rounded_dh({"rounded_b35": 35.0, "rounded_b45": 45.0}[name]))
+
+
+@pytest.mark.parametrize(("name", "q"), [
+    # the line 8.3e-5 and 1.1e-5 of the size from axis 1: the exact solution 0.4 rad and more from
+    # the nominal gap's nearest dip, beyond the dip-centred scans' reach
+    ("irb5400", [0.7209082426552142, 0.9325385921848972, 2.8873900467699958, -1.0109682965713578,
+                 0.3336079655611064, 3.0273850288882596]),
+    ("irb5400", [0.3971927329301286, 1.7331409364855663, 1.5047010726017307, -2.9137974516190157,
+                 -0.13602331436771609, 1.0025899954174422]),
+    # the line 2.5e-9 of the size from axis 1 (near_shoulder.py seed 2)
+    ("irb5400", [1.6609953416729626, 0.32580022758350413, -2.2497618451418866, 1.233664918232198,
+                 0.09122796005846157, 1.4011466055746462]),
+    ("irb5400", [-0.667335514185504, 0.823412110263174, 1.6869916160109169, 1.6744537418356922,
+                 -3.089043471758538, 1.0489048498973261]),
+    ("rounded_b35", [1.276445925255702, -2.8293671791547226, -2.9012288811614084, -3.101813165604905,
+                     0.2984557460985573, 0.38317616457781556]),
+    ("rounded_b35", [-2.4108893426816875, 0.8304852999189336, 3.0500187831118772, -0.5244627077918054,
+                     1.539337711762264, -2.6298096947388556]),
+    ("rounded_b45", [-0.7329041385638244, -0.6354094500904859, -0.5835535630175586,
+                     0.34423101233604214, 0.22020064121692595, 2.943593179558502]),
 ])
-def test_irb5400_inside_the_shoulder_exact_window(irb, q):
-    """Two IRB 5400 sources of a near-shoulder generator (q2 solved so that the line of virtual
-    centres passes 1e-6 .. 2e-3 of the size from axis 1): known misses, kept strict so that the
-    fix that finds them has to say so."""
-    assert misses(irb, np.array([q])) == []
+def test_near_shoulder_solutions_far_from_the_dips(irb, name, q):
+    """Sources whose line of virtual centres passes within SHOULDER_EXACT_NEAR of the robot's size
+    from axis 1 (1e-9 .. 1e-4 of it here), missed before the whole-turn scan of the exact model
+    (:func:`ik7r._kernels.complete._shoulder_turn`): there the deviation moves the virtual centre
+    by as much as its distance from axis 1, and exact solutions lie anywhere in q1."""
+    assert misses(_near_shoulder_robot(name, irb), np.array([q])) == []
+
+
+@pytest.mark.xfail(strict=True, reason="issue 12 item 4, open: near the shoulder set the exact "
+                   "model's reduced residual in q1 jumps between least-squares branches where the "
+                   "wrist is nearly straight or far bent; 5 sources of 24,000 near-shoulder poses "
+                   "(docs/guide/edges.md)")
+@pytest.mark.parametrize(("name", "q"), [
+    ("rounded_b45", [-1.711301919213633, -1.5589296349514807, -1.5814418538952086,
+                     -0.7115080299459602, 3.0900688202512496, -2.3339162447594877]),
+    ("rounded_b45", [2.0238958311858504, 2.006659383967797, -1.9630367257961225, 2.1891648433423176,
+                     2.148066433462324, 2.128971205138374]),
+    ("rounded_b45", [-1.4624904056251316, 1.0067503706132874, -1.6614036936567356, -2.5754772872416396,
+                     2.2883526013356414, 2.3666095946228607]),
+    ("rounded2", [1.6180587623541696, 0.3745788319435328, -1.8489351439525201, -0.265832214484115,
+                  0.014795838596012967, 0.793973766153965]),
+    ("rounded2", [-0.9645470689720117, 2.1132744237448, 0.34897811070715257, 3.083450744102735,
+                  0.003952354975810035, 2.831404537038142]),
+])
+def test_near_shoulder_known_misses(name, q):
+    """The near-shoulder sources still missed (near_shoulder.py seeds 1 and 2, 3,000 poses per
+    robot each): kept strict so that the fix that finds them has to say so."""
+    assert misses(_near_shoulder_robot(name, None), np.array([q])) == []
+
+
+@pytest.mark.parametrize("name", ["irb5400", "rounded_b35", "rounded_b45", "rounded2"])
+def test_near_shoulder_set_of_deviating_models(irb, name):
+    """400 sources per robot with the virtual centre 1e-9 .. 1e-3 of the size from axis 1 (the
+    reference's near-shoulder set: q2 in closed form): every source among the answers."""
+    robot = _near_shoulder_robot(name, irb)
+    rng = np.random.default_rng(1203)
+    assert misses(robot, singular_joints(robot, rng, "near_shoulder", 400)) == []
 
 
 def test_near_miss_at_a_branch_end_beside_a_steep_grid_point():

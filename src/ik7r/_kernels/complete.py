@@ -155,7 +155,10 @@ SHOULDER_CELLS = 8
 #: SHOULDER_EXACT_FAR the reach shrinks as SHOULDER_EXACT_NEAR / r (the deviation moves the
 #: virtual centre by about a fixed distance, so the exact solutions move by about its angle
 #: seen from axis 1), on proportionally fewer cells (at least 2): a rounded 35 deg robot's
-#: source 0.1 to 0.2 rad from the dip, the line 3.23e-4 of the size from axis 1
+#: source 0.1 to 0.2 rad from the dip, the line 3.23e-4 of the size from axis 1. Within
+#: SHOULDER_EXACT_NEAR the exact model is also scanned over the whole turn of q1, once per elbow
+#: branch and wrist sign (:func:`_shoulder_turn`): there the deviation moves the virtual centre
+#: as far as its distance from axis 1, and exact solutions lie far beyond any dip's reach.
 SHOULDER_EXACT_NEAR = 3e-4
 SHOULDER_EXACT_FAR = 5e-4
 #: Models that deviate from the idealised one: theta5 within this (rad) of 0 and pi is scanned
@@ -1297,14 +1300,11 @@ def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
     turn, both elbow branches."""
     if K[L.B] != 0.0:
         return count
-    axy2 = a[0] * a[0] + a[1] * a[1]
-    if axy2 < 1e-24:
+    if a[0] * a[0] + a[1] * a[1] < 1e-24:
         return count  # a along axis 1: P' is at one distance from it for every d
-    t = (p[0] * a[0] + p[1] * a[1]) / axy2
-    rx = p[0] - t * a[0]
-    ry = p[1] - t * a[1]
+    t, r = _line_to_axis1(p, a, K)
     near = SHOULDER_NEAR if K[L.DEVIATION] == 0.0 else SHOULDER_SCAN_DEVIATING
-    if rx * rx + ry * ry > (near * K[L.SCALE]) ** 2:
+    if r > near * K[L.SCALE]:
         return count
     d = t - K[L.D7]
     if not (0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]):
@@ -1317,6 +1317,8 @@ def _scan_turn(front, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, ma
     """Every root of a gap in theta1 (``front`` 0: :func:`_shoulder_gap`, 3: :func:`_fold_axis_gap`)
     on a grid over the whole turn (:func:`_scan_piece`, nested pieces), both elbow branches."""
     sub = ws[_SUB:_SUB + 2 * SCAN_PIECES]
+    turn = (front == 0.0 and K[L.DEVIATION] > 0.0
+            and _line_to_axis1(p, a, K)[1] <= SHOULDER_EXACT_NEAR * K[L.SCALE])
     for elbow in (1.0, -1.0):
         sub[0] = -math.pi
         sub[1] = math.pi
@@ -1326,6 +1328,54 @@ def _scan_turn(front, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, ma
             count, npieces = _scan_piece(sub[2 * j], sub[2 * j + 1], sub, npieces, front, elbow,
                                          p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
             j += 1
+        if turn:
+            count = _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats)
+    return count
+
+
+@njit
+def _line_to_axis1(p, a, K):
+    """The line of virtual centres ``p - t a`` (``a`` not along axis 1) at its closest to axis 1:
+    (t there, the distance)."""
+    axy2 = a[0] * a[0] + a[1] * a[1]
+    t = (p[0] * a[0] + p[1] * a[1]) / axy2
+    rx = p[0] - t * a[0]
+    ry = p[1] - t * a[1]
+    return t, math.sqrt(rx * rx + ry * ry)
+
+
+@njit
+def _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
+    """Where the line of virtual centres passes within SHOULDER_EXACT_NEAR of the robot's size
+    from axis 1, on a model that deviates from the idealised one: every exact solution on the
+    elbow branch ``elbow`` over the whole turn of q1. There the deviation moves the virtual
+    centre by as much as its distance from axis 1 or more, so the exact solutions lie anywhere
+    in theta1, not only near the nominal gap's dips (an IRB 5400 pose with the line 1.1e-5 of
+    the size from axis 1 has one 1.2 rad from the nearest dip). The exact model's reduced
+    residual in q1 (:func:`_reduced_at`) is tracked over the turn on REDUCED_GRID cells, one
+    closed curve per wrist sign, from the nominal arm and wrist at the first grid point the
+    branch reaches; the dip-centred scans of :func:`_shoulder_exact` (finer, SHOULDER_REACH
+    each way) still resolve the close pairs beside the dips."""
+    th = ws[_TH:_TH + _NTH]
+    ok = False
+    for k in range(REDUCED_GRID):
+        t1 = K[L.SIGN] * (-math.pi + TWO_PI * k / REDUCED_GRID) + K[L.THETA_OFFSET1]
+        _, ok = _shoulder_gap(t1, p, a, elbow, K, th)
+        if ok:
+            break
+    if not ok:
+        return count
+    _arm_frame(th, R07, K, ws, mats)
+    Q = mats[_Q, :3, :3]
+    q = ws[_Q6:_Q6 + 6]
+    qq = ws[_QQ:_QQ + 6]
+    t5 = th[6]
+    t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
+    v0 = q[0]
+    for sgn in (1.0, -1.0):
+        # (the start into qq: _reduced_scan reads it once, before it adds anything)
+        _with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
+        count = _reduced_scan(qq, 0, v0, v0 + TWO_PI, REDUCED_GRID, Td, K, out, count, ws, mats)
     return count
 
 
@@ -1343,12 +1393,9 @@ def _shoulder_exact(t1, elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
     SHOULDER_REACH either way (:func:`_reduced_scan`). Only where the line of virtual
     centres passes within SHOULDER_EXACT_FAR of the robot's size from axis 1, beyond
     SHOULDER_EXACT_NEAR with the reach shrinking as its distance grows: further out the
-    nominal candidates and their polish find these solutions."""
-    axy2 = a[0] * a[0] + a[1] * a[1]
-    t = (p[0] * a[0] + p[1] * a[1]) / axy2  # (axy2 > 0: _scan_shoulder checked)
-    rx = p[0] - t * a[0]
-    ry = p[1] - t * a[1]
-    r = math.sqrt(rx * rx + ry * ry) / K[L.SCALE]
+    nominal candidates and their polish find these solutions (within SHOULDER_EXACT_NEAR the
+    whole turn is scanned as well: :func:`_shoulder_turn`)."""
+    r = _line_to_axis1(p, a, K)[1] / K[L.SCALE]  # (a is not along axis 1: _scan_shoulder checked)
     if r > SHOULDER_EXACT_FAR:
         return count
     reach = SHOULDER_REACH if r <= SHOULDER_EXACT_NEAR else SHOULDER_REACH * SHOULDER_EXACT_NEAR / r
