@@ -2,7 +2,8 @@
 
 Public API only. For each robot: poses from uniform joints, and poses on the singular sets
 (straight wrist q5 = 0 and within 1e-9 .. 1e-3 of it, fully bent wrist near q5 = 180 deg,
-stretched elbow, virtual wrist centre near axis 1 for robots without lateral offset). Prints
+stretched elbow), and for robots without lateral offset poses whose axis 7 (the line of
+virtual wrist centres) passes 1e-9 .. 1e-3 of the size from axis 1 (``near_shoulder``). Prints
 median, 99th percentile and worst time per call of ``robot.ik_all(T)`` (each pose the least of
 REPEATS calls) and how many source joint vectors were not among the answers (within 1e-6 rad; at a
 straight wrist through q4 + q7; beside a fully bent wrist within 1e-5, where the solver counts the
@@ -54,6 +55,49 @@ def _singular_poses(robot: Robot, rng, n: int) -> np.ndarray:
     return _wrap(Q)
 
 
+def _axis7_to_axis1(robot: Robot, Q: np.ndarray) -> np.ndarray:
+    """Signed distance (robot units) between axis 1 and axis 7 (the line of virtual wrist
+    centres) of joints ``Q`` (..., 6), from the public forward kinematics."""
+    T07 = np.linalg.inv(robot.base) @ robot.fk(Q) @ np.linalg.inv(robot.tool)
+    p, a = T07[..., :3, 3], T07[..., :3, 2]
+    n = np.cross([0.0, 0.0, 1.0], a)
+    return np.einsum("...i,...i->...", p, n) / np.linalg.norm(n, axis=-1)
+
+
+def _near_shoulder_poses(robot: Robot, rng, n: int) -> np.ndarray:
+    """Joints whose axis 7 passes at 10^U(-9, -3) of the robot's size (the sum of its DH lengths)
+    from axis 1, either side: random joints with q2 solved by brentq (arms without lateral
+    offset, where that is the shoulder singular set's neighbourhood)."""
+    from scipy.optimize import brentq
+
+    size = float(np.abs(np.asarray(robot.dh)[:, [0, 2]]).sum())
+    grid = np.linspace(-np.pi, np.pi, 73)
+    out = []
+    while len(out) < n:
+        q = rng.uniform(-np.pi, np.pi, 6)
+        target = rng.choice([-1.0, 1.0]) * size * 10.0 ** rng.uniform(-9, -3)
+        Qg = np.repeat(q[None], len(grid), axis=0)
+        Qg[:, 1] = grid
+        g = _axis7_to_axis1(robot, Qg) - target
+        cells = np.flatnonzero(g[:-1] * g[1:] < 0)
+        if len(cells) == 0:
+            continue
+        i = cells[rng.integers(len(cells))]
+
+        def gap(t2, q=q, target=target):
+            qq = q.copy()
+            qq[1] = t2
+            return float(_axis7_to_axis1(robot, qq)) - target
+
+        q[1] = brentq(gap, grid[i], grid[i + 1], xtol=1e-15, rtol=1e-15)
+        out.append(q)
+    return np.array(out)
+
+
+def _lateral(robot: Robot) -> bool:
+    return abs(robot.dh[1][2] + robot.dh[2][2]) > 0.0
+
+
 def _found(robot: Robot, sols: np.ndarray, q: np.ndarray) -> bool:
     if len(sols) == 0:
         return False
@@ -92,17 +136,19 @@ def _time(robot: Robot, Q: np.ndarray) -> tuple[np.ndarray, int]:
 def main(argv: list[str]) -> int:
     n = int(argv[0]) if argv else 2000
     rng = np.random.default_rng(12)
+    near_rng = np.random.default_rng(13)  # (its own stream: the other rows draw what they drew before)
     paper = ik7r.load_robot()
     robots = [paper, ik7r.load_robot("irb5400"), _generated(35, 250, 150, "offsets_b35"),
               _generated(45, 250, 150, "offsets_b45"), _rounded(_generated(35, 250, 150, "x"), "rounded_b35"),
               _rounded(_generated(45, 250, 150, "x"), "rounded_b45")]
     print(f"ik_all per call, {n} poses per row (us); missed = sources not among the answers")
-    print(f"{'robot':14s} {'poses':9s} {'median':>8s} {'p99':>8s} {'max':>9s} {'missed':>7s}")
+    print(f"{'robot':14s} {'poses':13s} {'median':>8s} {'p99':>8s} {'max':>9s} {'missed':>7s}")
     for robot in robots:
-        for kind in ("random", "singular"):
-            Q = rng.uniform(-np.pi, np.pi, (n, 6)) if kind == "random" else _singular_poses(robot, rng, n)
+        for kind in ("random", "singular") + (() if _lateral(robot) else ("near_shoulder",)):
+            Q = (rng.uniform(-np.pi, np.pi, (n, 6)) if kind == "random" else _singular_poses(robot, rng, n)
+                 if kind == "singular" else _near_shoulder_poses(robot, near_rng, n))
             t, missed = _time(robot, Q)
-            print(f"{robot.name:14s} {kind:9s} {1e6 * np.median(t):8.1f} {1e6 * np.percentile(t, 99):8.1f} "
+            print(f"{robot.name:14s} {kind:13s} {1e6 * np.median(t):8.1f} {1e6 * np.percentile(t, 99):8.1f} "
                   f"{1e6 * t.max():9.1f} {missed:7d}")
     _known_hard(robots)
     _round_trip(ik7r.load_robot("irb5400"), np.random.default_rng(12), 100_000)
