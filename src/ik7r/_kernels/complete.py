@@ -1302,7 +1302,7 @@ def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
         return count
     if a[0] * a[0] + a[1] * a[1] < 1e-24:
         return count  # a along axis 1: P' is at one distance from it for every d
-    t, r = _line_to_axis1(p, a, K)
+    t, r = _line_to_axis1(p, a)
     near = SHOULDER_NEAR if K[L.DEVIATION] == 0.0 else SHOULDER_SCAN_DEVIATING
     if r > near * K[L.SCALE]:
         return count
@@ -1318,7 +1318,7 @@ def _scan_turn(front, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, ma
     on a grid over the whole turn (:func:`_scan_piece`, nested pieces), both elbow branches."""
     sub = ws[_SUB:_SUB + 2 * SCAN_PIECES]
     turn = (front == 0.0 and K[L.DEVIATION] > 0.0
-            and _line_to_axis1(p, a, K)[1] <= SHOULDER_EXACT_NEAR * K[L.SCALE])
+            and _line_to_axis1(p, a)[1] <= SHOULDER_EXACT_NEAR * K[L.SCALE])
     for elbow in (1.0, -1.0):
         sub[0] = -math.pi
         sub[1] = math.pi
@@ -1334,7 +1334,7 @@ def _scan_turn(front, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, ma
 
 
 @njit
-def _line_to_axis1(p, a, K):
+def _line_to_axis1(p, a):
     """The line of virtual centres ``p - t a`` (``a`` not along axis 1) at its closest to axis 1:
     (t there, the distance)."""
     axy2 = a[0] * a[0] + a[1] * a[1]
@@ -1395,7 +1395,7 @@ def _shoulder_exact(t1, elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
     SHOULDER_EXACT_NEAR with the reach shrinking as its distance grows: further out the
     nominal candidates and their polish find these solutions (within SHOULDER_EXACT_NEAR the
     whole turn is scanned as well: :func:`_shoulder_turn`)."""
-    r = _line_to_axis1(p, a, K)[1] / K[L.SCALE]  # (a is not along axis 1: _scan_shoulder checked)
+    r = _line_to_axis1(p, a)[1] / K[L.SCALE]  # (a is not along axis 1: _scan_shoulder checked)
     if r > SHOULDER_EXACT_FAR:
         return count
     reach = SHOULDER_REACH if r <= SHOULDER_EXACT_NEAR else SHOULDER_REACH * SHOULDER_EXACT_NEAR / r
