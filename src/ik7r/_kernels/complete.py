@@ -2040,7 +2040,10 @@ def _straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False):
     mirror, with q1 sweeping fast where q5 grows: a scan tracks one of them (and may jump to
     the other where q1 swings), so the other sheet is scanned too, from the mirror of the
     first one's least bent point (on the IRB 5400 the line of virtual centres 0.012 mm from
-    axis 1 gave 12 solutions, four on each sheet; one was missed)."""
+    axis 1 gave 12 solutions, four on each sheet; one was missed). There a sheet need not
+    close over the turn either (it can drift onto the other before it comes back), so the last
+    half turn of each is tracked back from its start too (generated(2) of the tests, a pair
+    0.09 rad apart in q4 on either side of the start)."""
     s4 = K[L.SIGN + 3]
     s7 = K[L.SIGN + 6]
     total = math.atan2(Q[1, 0], Q[0, 0]) - K[L.THETA_OFFSET4] - K[L.THETA_OFFSET7]
@@ -2064,16 +2067,24 @@ def _straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False):
     start[3] = -math.pi
     start[4] = user_angle(4, 0.0, K)
     start[5] = s7 * (total + s4 * math.pi)
+    back = start.copy()
     count = _reduced_scan(start, 3, -math.pi, math.pi, REDUCED_GRID, Td, K, out, count, ws,
                           mats)
     if not sheets:
         return count
+    # near the shoulder set a sheet need not close over the turn (q1 drifts onto the other
+    # sheet before the scan comes back): its last half turn is tracked back from the start too
+    count = _reduced_scan(back, 3, math.pi, 0.0, REDUCED_GRID // 2, Td, K, out, count, ws, mats)
     # the other sheet, from the mirror of the scanned one's least bent point: theta4 and theta7
     # half a turn on, theta5 of the other sign (the same wrist to first order in theta5)
     start[3] = wrap(start[3] + s4 * math.pi)
     start[4] = user_angle(4, -dh_angle(start, K, 4), K)
     start[5] = wrap(start[5] + s7 * math.pi)
-    return _reduced_scan(start, 3, start[3], start[3] + TWO_PI, REDUCED_GRID, Td, K, out, count,
+    for i in range(6):
+        back[i] = start[i]
+    count = _reduced_scan(start, 3, start[3], start[3] + TWO_PI, REDUCED_GRID, Td, K, out, count,
+                          ws, mats)
+    return _reduced_scan(back, 3, back[3], back[3] - math.pi, REDUCED_GRID // 2, Td, K, out, count,
                          ws, mats)
 
 
