@@ -1366,6 +1366,15 @@ def _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
     if not ok:
         return count
     _arm_frame(th, R07, K, ws, mats)
+    return _q1_scans(th, TWO_PI, 0.0, REDUCED_GRID, Td, K, hint, out, count, ws, mats)
+
+
+@njit
+def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
+    """The exact model's reduced residual in q1 (:func:`_reduced_scan`) tracked from the
+    nominal arm of ``th`` (made into ``ws`` and ``mats`` by :func:`_arm_frame`) with its wrist of
+    either sign, from its q1 over ``span_a`` and then ``span_b`` (rad, user q1; 0: no scan), on
+    ``cells`` cells each."""
     Q = mats[_Q, :3, :3]
     q = ws[_Q6:_Q6 + 6]
     qq = ws[_QQ:_QQ + 6]
@@ -1373,9 +1382,12 @@ def _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
     v0 = q[0]
     for sgn in (1.0, -1.0):
-        # (the start into qq: _reduced_scan reads it once, before it adds anything)
-        _with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
-        count = _reduced_scan(qq, 0, v0, v0 + TWO_PI, REDUCED_GRID, Td, K, out, count, ws, mats)
+        for span in (span_a, span_b):
+            if span == 0.0:
+                continue
+            # (the start into qq: _reduced_scan reads it once, before it adds anything)
+            _with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
+            count = _reduced_scan(qq, 0, v0, v0 + span, cells, Td, K, out, count, ws, mats)
     return count
 
 
@@ -1405,21 +1417,9 @@ def _shoulder_exact(t1, elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
     if not ok:
         return count
     _arm_frame(th, R07, K, ws, mats)
-    Q = mats[_Q, :3, :3]
-    q = ws[_Q6:_Q6 + 6]
-    qq = ws[_QQ:_QQ + 6]
-    t5 = th[6]
-    t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
-    v_lo = user_angle(0, t1 - reach, K)
-    v_hi = user_angle(0, t1 + reach, K)
-    v_lo = q[0] + wrap(v_lo - q[0])
-    v_hi = q[0] + wrap(v_hi - q[0])
-    for sgn in (1.0, -1.0):
-        for v_end in (v_lo, v_hi):
-            # (the start into qq: _reduced_scan reads it once, before it adds anything)
-            _with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
-            count = _reduced_scan(qq, 0, q[0], v_end, cells, Td, K, out, count, ws, mats)
-    return count
+    q1 = ws[_Q6]
+    return _q1_scans(th, wrap(user_angle(0, t1 - reach, K) - q1), wrap(user_angle(0, t1 + reach, K) - q1),
+                     cells, Td, K, hint, out, count, ws, mats)
 
 
 @njit
