@@ -393,7 +393,7 @@ def test_partner_filter_is_the_frobenius_condition_number():
     robot = ik7r.load_robot("irb5400")
     K = robot.kernel_params
     rng = np.random.default_rng(9)
-    work = [np.empty((6, 6)), np.empty(6), np.empty(6)]
+    work = [np.empty((6, 6)), np.empty((6, 6))]
     for k in range(30):
         q = rng.uniform(-np.pi, np.pi, 6)
         if k % 3 == 0:

@@ -2443,21 +2443,44 @@ def _other_wrists(R07, Td, K, out, count, ws, mats):
 
 
 @njit
-def _condition_frobenius(J, A, b, x):
-    """``|J|_F |J^-1|_F`` of ``J`` (6, 6; inf when singular), from six solves (``A``, ``b``,
-    ``x``: work arrays): at least ``sigma_max / sigma_min`` and at most 6 times it, so that a
-    solution whose value is below ``1 / PARTNER_SIGMA`` is regular beyond doubt, for the cost
-    of a few Jacobians instead of a singular value decomposition."""
+def _condition_frobenius(J, A, B):
+    """``|J|_F |J^-1|_F`` of ``J`` (6, 6; inf when singular): at least ``sigma_max / sigma_min``
+    and at most 6 times it, so that a solution whose value is below ``1 / PARTNER_SIGMA`` is
+    regular beyond doubt, for the cost of a few Jacobians instead of a singular value
+    decomposition. ``J^-1`` by one elimination with partial pivoting of ``J`` (into ``A``) beside
+    the identity (into ``B``; both 6 x 6 work arrays), then a back substitution per column: the
+    operations of :func:`ik7r._kernels.fk.solve6` on each column of the identity, done once for
+    all six (the same numbers, bit for bit)."""
+    for r in range(6):
+        for c in range(6):
+            A[r, c] = J[r, c]
+            B[r, c] = 1.0 if r == c else 0.0
+    for k in range(6):
+        p = k
+        for i in range(k + 1, 6):
+            if abs(A[i, k]) > abs(A[p, k]):
+                p = i
+        if A[p, k] == 0.0:
+            return math.inf
+        if p != k:
+            for c in range(6):
+                A[k, c], A[p, c] = A[p, c], A[k, c]
+                B[k, c], B[p, c] = B[p, c], B[k, c]
+        for i in range(k + 1, 6):
+            f = A[i, k] / A[k, k]
+            for c in range(k, 6):
+                A[i, c] -= f * A[k, c]
+            for c in range(6):
+                B[i, c] -= f * B[k, c]
     inv = 0.0
     for k in range(6):
+        for i in range(5, -1, -1):  # (column k of J^-1, into column k of B)
+            s = B[i, k]
+            for c in range(i + 1, 6):
+                s -= A[i, c] * B[c, k]
+            B[i, k] = s / A[i, i]
         for r in range(6):
-            for c in range(6):
-                A[r, c] = J[r, c]
-            b[r] = 1.0 if r == k else 0.0
-        if solve6(A, b, x) == 0.0:
-            return math.inf
-        for r in range(6):
-            inv += x[r] * x[r]
+            inv += B[r, k] * B[r, k]
     nj = 0.0
     for r in range(6):
         for c in range(6):
@@ -2496,7 +2519,7 @@ def _partners(Td, K, out, count, ws, mats):
         for r in range(3):
             for c in range(6):
                 J[r, c] *= w
-        if PARTNER_SIGMA * _condition_frobenius(J, A, ep, qt) <= 1.0:
+        if PARTNER_SIGMA * _condition_frobenius(J, A, ZO[:6]) <= 1.0:
             continue  # clearly regular: sigma_min / sigma_max >= 1 / the Frobenius condition
         U, S, Vt = np.linalg.svd(J)
         if not S[5] < PARTNER_SIGMA * S[0]:
