@@ -530,3 +530,19 @@ def test_reduced_scans_that_join_a_curve_take_its_grid(monkeypatch):
     F = reference_fk(robot, out[:more])
     assert np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=1).max() <= robot.position_tolerance
     assert np.abs(F[:, :3, :3] - T[:3, :3]).max() <= 2 * robot.rotation_tolerance
+
+
+def test_a_shoulder_dip_found_twice_is_scanned_once():
+    """``_dip_scanned``: the first dip of an elbow branch is new (and remembered); the same dip
+    again within SHOULDER_DIP_SAME (also across the wrap at +-pi) is not, while a dip on the
+    other elbow branch or SHOULDER_DIP_SAME beyond is; a new pose (the count reset) forgets."""
+    ws = np.zeros(_complete.WORK_SIZE)
+    same = _complete.SHOULDER_DIP_SAME
+    assert not _complete._dip_scanned(1.25, 1.0, ws)
+    assert _complete._dip_scanned(1.25 + 0.5 * same, 1.0, ws)
+    assert not _complete._dip_scanned(1.25, -1.0, ws)
+    assert not _complete._dip_scanned(1.25 + 2 * same, 1.0, ws)
+    assert not _complete._dip_scanned(math.pi - 0.25 * same, -1.0, ws)
+    assert _complete._dip_scanned(-math.pi + 0.25 * same, -1.0, ws)
+    ws[_complete._NSDIP] = 0.0
+    assert not _complete._dip_scanned(1.25, 1.0, ws)
