@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 from helpers import source_distance
-from reference_ik import singular_joints
+from reference_ik import among, reference_ik, singular_joints
 
 import ik7r
 from ik7r.robot import Robot
@@ -297,22 +297,51 @@ def test_straight_family_sheet_that_does_not_close(q):
     assert misses(generated(2), np.array([q])) == []
 
 
-@pytest.mark.xfail(strict=True, reason="issue 12 item 4, open: near the shoulder set the exact "
-                   "model's reduced residual in q1 jumps between least-squares branches where the "
-                   "wrist is far bent; 3 sources of 24,000 near-shoulder poses "
-                   "(docs/guide/edges.md)")
-@pytest.mark.parametrize(("name", "q"), [
-    ("rounded_b45", [-1.711301919213633, -1.5589296349514807, -1.5814418538952086,
-                     -0.7115080299459602, 3.0900688202512496, -2.3339162447594877]),
-    ("rounded_b45", [2.0238958311858504, 2.006659383967797, -1.9630367257961225, 2.1891648433423176,
-                     2.148066433462324, 2.128971205138374]),
-    ("rounded_b45", [-1.4624904056251316, 1.0067503706132874, -1.6614036936567356, -2.5754772872416396,
-                     2.2883526013356414, 2.3666095946228607]),
-])
-def test_near_shoulder_known_misses(name, q):
-    """The near-shoulder sources still missed (near_shoulder.py seeds 1 and 2, 3,000 poses per
-    robot each): kept strict so that the fix that finds them has to say so."""
-    assert misses(_near_shoulder_robot(name, None), np.array([q])) == []
+def test_near_shoulder_far_virtual_centre():
+    """The rounded 45 deg robot with the wrist 0.05 rad from fully bent: the virtual centre is
+    90 m out (30 sizes), and the line of virtual centres passes 2.5 mm from axis 1, 8.5e-4 of
+    the size but 2.8e-5 of that distance. The deviation's angles move the centre by d times
+    themselves, so the exact model's solutions there lie anywhere in q1: the shoulder windows
+    are relative to the larger of the size and d (``_shoulder_offset``). Missed before (the
+    window was relative to the size alone), with 3 more of its 16 answers."""
+    robot = _near_shoulder_robot("rounded_b45", None)
+    q = [-1.711301919213633, -1.5589296349514807, -1.5814418538952086, -0.7115080299459602,
+         3.0900688202512496, -2.3339162447594877]
+    assert misses(robot, np.array([q])) == []
+
+
+def test_near_shoulder_partner_in_the_first_cell():
+    """The rounded 45 deg robot, three exact solutions within 0.06 rad of q1 (2.024, 2.064,
+    2.082; the residual between them below 4e-8 of the size): the partner scan from the middle
+    one started at it, where the reduced residual is zero, so its first cell's sign test read
+    rounding and the source in that cell was lost. The scan now starts PARTNER_STEP of a cell
+    beside the solution."""
+    robot = _near_shoulder_robot("rounded_b45", None)
+    q = [2.0238958311858504, 2.006659383967797, -1.9630367257961225, 2.1891648433423176,
+         2.148066433462324, 2.128971205138374]
+    assert misses(robot, np.array([q])) == []
+    assert _reference_missed(robot, q) == []
+
+
+def test_near_shoulder_arm_just_out_of_reach():
+    """The rounded 45 deg robot, the line of virtual centres 1.1e-3 mm from axis 1 and the
+    nominal arm 0.026 mm short of reaching its centre folded (the elbow's cosine -1 - 7.2e-6),
+    for every q1: the exact model, 0.05 mm off, reaches it, but the whole turn had no start.
+    It is now tracked from the nearest arm (SHOULDER_TURN_SLACK). Before: 4 answers, the source
+    and 7 more of this pose's 12 missed (the reference finds 5 of the 12)."""
+    robot = _near_shoulder_robot("rounded_b45", None)
+    q = [-1.4624904056251316, 1.0067503706132874, -1.6614036936567356, -2.5754772872416396,
+         2.2883526013356414, 2.3666095946228607]
+    assert misses(robot, np.array([q])) == []
+    assert _reference_missed(robot, q) == []
+
+
+def _reference_missed(robot, q):
+    """The solutions of the pose of ``q`` that the independent reference finds (started from
+    ``q`` as well) and ``ik_all`` does not return."""
+    T = robot.fk(np.asarray(q, float))
+    sols = robot.ik_all(T)
+    return [r for r in reference_ik(robot, T, extra_starts=np.array([q])) if not among(robot, sols, r, T)]
 
 
 @pytest.mark.parametrize("name", ["irb5400", "rounded_b35", "rounded_b45", "rounded2"])

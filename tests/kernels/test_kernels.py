@@ -546,3 +546,28 @@ def test_a_shoulder_dip_found_twice_is_scanned_once():
     assert _complete._dip_scanned(-math.pi + 0.25 * same, -1.0, ws)
     ws[_complete._NSDIP] = 0.0
     assert not _complete._dip_scanned(1.25, 1.0, ws)
+
+
+def test_arm_just_out_of_reach_takes_the_nearest_arm_within_its_slack():
+    """``arm_ik``'s ``slack``: a point 1e-6 of the reach beyond the stretched elbow of the IRB
+    5400 (the elbow's cosine beyond 1 by a few 1e-6) is out of reach by default and within a
+    slack of 1e-3; the arm then given is the stretched one, whose angles are those of the point
+    just inside the boundary to within the arc cosine's square root of the overshoot."""
+    from ik7r._kernels import arm as _arm
+
+    K = ik7r.load_robot("irb5400").kernel_params
+    a1, a2, a3, d1, Ld = (K[_layout.A1], K[_layout.A2], K[_layout.A3], K[_layout.D1], K[_layout.D4])
+    far = a2 + math.hypot(a3, Ld)  # from axis 2, the elbow stretched (the cosine at 1)
+    t1, phi = 0.4, 0.3
+
+    def arm(scale, slack):
+        rho = a1 + scale * far * math.cos(phi)
+        pz = d1 + K[_layout.EPS1] * scale * far * math.sin(phi)
+        return _arm.arm_ik(rho * math.cos(t1), rho * math.sin(t1), pz, Ld, 1.0, 1.0, 0.0, K, slack)
+
+    inside = arm(1.0 - 1e-9, 1e-12)
+    assert inside[3]
+    assert not arm(1.0 + 1e-6, 1e-12)[3]
+    out = arm(1.0 + 1e-6, 1e-3)
+    assert out[3]
+    assert np.abs(wrap(np.array(out[:3]) - np.array(inside[:3]))).max() <= 1e-3  # (sqrt(2 x 4e-6): 3e-4)

@@ -29,12 +29,13 @@ def shoulder_angle(rho, px, py, bp):
 
 
 @njit
-def arm_reach(px, py, pz, Ld, front, t1_hint, K):
+def arm_reach(px, py, pz, Ld, front, t1_hint, K, slack=1e-12):
     """Whether :func:`arm_ik` reaches the point (its ``ok``), without its angles: (rho, xx, xy,
     c, ok) with ``rho`` the signed distance of the point from axis 1 in the arm plane, ``(xx,
     xy)`` the point in the plane from axis 2, ``c`` the cosine :func:`arm_ik` takes the elbow's
-    arc cosine of (clamped). The angles' trigonometric calls are left out: a scan that only
-    looks for where an arm branch ends calls this alone."""
+    arc cosine of (clamped; ``ok`` is False where it was beyond 1 by more than ``slack``). The
+    angles' trigonometric calls are left out: a scan that only looks for where an arm branch
+    ends calls this alone."""
     a1, a2, a3, b, e1, e3, scale = arm_params(K)
     ok = True
     r2 = px * px + py * py
@@ -52,21 +53,22 @@ def arm_reach(px, py, pz, Ld, front, t1_hint, K):
     R = math.hypot(a3, Ld)
     c = m / R
     if abs(c) > 1.0:
-        if abs(c) > 1.0 + 1e-12:
+        if abs(c) > 1.0 + slack:
             ok = False
         c = max(-1.0, min(1.0, c))
     return rho, xx, xy, c, ok
 
 
 @njit
-def arm_ik(px, py, pz, Ld, front, elbow, t1_hint, K):
+def arm_ik(px, py, pz, Ld, front, elbow, t1_hint, K, slack=1e-12):
     """DH angles (theta1, theta2, theta3) placing the point at distance ``Ld`` along axis 4
     on ``(px, py, pz)`` (frame 0). ``front`` (+-1) picks the shoulder branch (+1 reaches
     forward of the shoulder), ``elbow`` (+-1) the elbow branch. On axis 1 (shoulder
     singularity, zero lateral offset) theta1 is ``t1_hint``. Returns ``ok = False`` when the
-    point is out of reach (by more than rounding)."""
+    point is out of reach (by more than rounding: the elbow's cosine beyond 1 by ``slack``; the
+    angles are then of the nearest arm)."""
     a1, a2, a3, b, e1, e3, scale = arm_params(K)
-    rho, xx, xy, c, ok = arm_reach(px, py, pz, Ld, front, t1_hint, K)
+    rho, xx, xy, c, ok = arm_reach(px, py, pz, Ld, front, t1_hint, K, slack)
     if px * px + py * py > (1e-13 * scale) ** 2:
         t1 = shoulder_angle(rho, px, py, -e1 * b)
     else:

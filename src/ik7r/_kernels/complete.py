@@ -141,7 +141,9 @@ DIP_FLOOR = 0.2
 #: robot's size) to axis 1.
 SHOULDER_NEAR = 1e-5
 #: ... and this for a model that deviates from the idealised one (near the set its solutions come
-#: in clusters the idealised roots do not have: the nominal gap's dips are candidates there)
+#: in clusters the idealised roots do not have: the nominal gap's dips are candidates there),
+#: relative to the larger of the size and the line's d there (:func:`_shoulder_offset`; this and
+#: the two windows below)
 SHOULDER_SCAN_DEVIATING = 2e-3
 #: ... where the nominal shoulder gap has a dip below SHOULDER_DIP (rad), the exact model's
 #: reduced residual in q1 is tracked SHOULDER_REACH (rad) each way from the dip's bottom, on
@@ -150,17 +152,23 @@ SHOULDER_SCAN_DEVIATING = 2e-3
 SHOULDER_DIP = 0.1
 SHOULDER_REACH = 0.4
 SHOULDER_CELLS = 8
-#: ... where the line of virtual centres passes this close (relative to the robot's size) to
-#: axis 1 (1.0 mm on the IRB 5400, whose such clusters were measured within 0.6 mm); out to
-#: SHOULDER_EXACT_FAR the reach shrinks as SHOULDER_EXACT_NEAR / r (the deviation moves the
-#: virtual centre by about a fixed distance, so the exact solutions move by about its angle
-#: seen from axis 1), on proportionally fewer cells (at least 2): a rounded 35 deg robot's
-#: source 0.1 to 0.2 rad from the dip, the line 3.23e-4 of the size from axis 1. Within
-#: SHOULDER_EXACT_NEAR the exact model is also scanned over the whole turn of q1, once per elbow
-#: branch and wrist sign (:func:`_shoulder_turn`): there the deviation moves the virtual centre
-#: as far as its distance from axis 1, and exact solutions lie far beyond any dip's reach.
+#: ... where the line of virtual centres passes this close (relative to the robot's size, or to
+#: its d there where that is larger) to axis 1 (1.0 mm on the IRB 5400, whose such clusters
+#: were measured within 0.6 mm); out to SHOULDER_EXACT_FAR the reach shrinks as
+#: SHOULDER_EXACT_NEAR / r (the deviation moves the virtual centre by about a fixed distance, so
+#: the exact solutions move by about its angle seen from axis 1), on proportionally fewer cells
+#: (at least 2): a rounded 35 deg robot's source 0.1 to 0.2 rad from the dip, the line 3.23e-4
+#: of the size from axis 1. Within SHOULDER_EXACT_NEAR the exact model is also scanned over the
+#: whole turn of q1, once per elbow branch and wrist sign (:func:`_shoulder_turn`): there the
+#: deviation moves the virtual centre as far as its distance from axis 1, and exact solutions
+#: lie far beyond any dip's reach.
 SHOULDER_EXACT_NEAR = 3e-4
 SHOULDER_EXACT_FAR = 5e-4
+#: ... and where no arm of the turn reaches the virtual centre (the elbow stretched or folded,
+#: within the deviation of the exact model's reach), the whole turn is tracked from the nearest
+#: arm of the first that misses it by less than this in the elbow's cosine (rounded_b45: a
+#: source whose nominal arm is 0.026 mm, 7.2e-6 in the cosine, short of folded enough)
+SHOULDER_TURN_SLACK = 1e-3
 #: ... and a dip within this (rad) of one already scanned on the same elbow branch in this pose is
 #: that dip: the root and the dip tests of the shoulder gap's scan found the same one twice, 1e-10
 #: apart, in 1 to 3 of a pose's 7 (IRB 5400), each time 40 reduced residuals more for the same
@@ -248,8 +256,10 @@ OTHER_WRIST_ARM = 1e-2
 PARTNER_REACH = 0.3
 #: ... and where the partner step finds nothing new, the reduced residual in the joint the
 #: singular vector moves most is scanned this many cells each way (PARTNER_REACH times that
-#: joint's share of the vector)
+#: joint's share of the vector), from PARTNER_STEP of a cell beside the solution (where the
+#: residual is zero, so that the first cell's sign test would read its rounding)
 PARTNER_CELLS = 4
+PARTNER_STEP = 0.1
 
 #: Largest number of Bernstein coefficients, and of brackets.
 _NB = MAX_DEGREE + 1
@@ -946,7 +956,7 @@ def _bend_centre(t5, p, a, K, t1_hint=0.0, in_plane=False):
 
 
 @njit
-def _bend_gap(t5, p, a, front, elbow, K, th, t1_hint=0.0, in_plane=False):
+def _bend_gap(t5, p, a, front, elbow, K, th, t1_hint=0.0, in_plane=False, slack=1e-12):
     """The bend gap at wrist angle ``t5`` >= 0 on the arm branch (``front``, ``elbow``: +-1):
     the angle between axis 4 of the arm that places the virtual centre of that bend and the
     tool's approach ``a``, minus the wrist's bend ``phi(t5)``; zero exactly at solutions.
@@ -956,11 +966,12 @@ def _bend_gap(t5, p, a, front, elbow, K, th, t1_hint=0.0, in_plane=False):
     DH cosines and sines into ``th`` (as :func:`_arm_from_psi`). Returns (gap, ok); ok is False
     where the branch does not reach. ``t1_hint``: theta1 when the virtual centre is on axis 1;
     ``th[6]`` gets t5. ``in_plane``: theta1 is ``t1_hint`` (the virtual centre is taken in
-    that arm plane: near axis 1 its direction from the axis is rounding noise)."""
+    that arm plane: near axis 1 its direction from the axis is rounding noise). ``slack``:
+    how far the arm may miss the centre (:func:`ik7r._kernels.arm.arm_ik`)."""
     x, d, px, py, pz, ok = _bend_centre(t5, p, a, K, t1_hint, in_plane)
     if not ok:
         return 0.0, False  # the fold of a 45 deg twist: the virtual centre is at infinity
-    t1, t2, t3, ok = arm_ik(px, py, pz, K[L.D4] + d, front, elbow, t1_hint, K)
+    t1, t2, t3, ok = arm_ik(px, py, pz, K[L.D4] + d, front, elbow, t1_hint, K, slack)
     if not ok:
         return 0.0, False
     c1, s1 = math.cos(t1), math.sin(t1)
@@ -981,16 +992,17 @@ def _bend_gap(t5, p, a, front, elbow, K, th, t1_hint=0.0, in_plane=False):
 
 
 @njit
-def _shoulder_gap(t1, p, a, elbow, K, th):
+def _shoulder_gap(t1, p, a, elbow, K, th, slack=1e-12):
     """The bend gap as a function of theta1 (DH) on the elbow branch ``elbow`` (+-1), for a robot
     without lateral offset: the virtual centre is where the line ``p - t a`` meets the arm's
     plane at theta1, which fixes d and so theta5. Near the shoulder singular set (that line
     passes close to axis 1) theta1 swings fast with d, and the residual polynomial's roots
-    there merge within its rounding; in theta1 they stay apart. Returns (gap, ok)."""
+    there merge within its rounding; in theta1 they stay apart. Returns (gap, ok); ``slack`` as
+    :func:`_bend_gap` takes it."""
     t5, front, ok = _shoulder_bend(t1, p, a, K)
     if not ok:
         return 0.0, False
-    return _bend_gap(t5, p, a, front, elbow, K, th, t1, True)
+    return _bend_gap(t5, p, a, front, elbow, K, th, t1, True, slack)
 
 
 @njit
@@ -1307,7 +1319,8 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
 @njit
 def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     """Near the shoulder singular set (no lateral offset; the line of virtual centres
-    ``p - t a`` passes within SHOULDER_NEAR of the robot's size from axis 1, at a d in range):
+    ``p - t a`` passes within SHOULDER_NEAR of the robot's size from axis 1, at a d in range;
+    on a deviating model within SHOULDER_SCAN_DEVIATING, see :func:`_shoulder_offset`):
     every solution from the bend gap in theta1 (:func:`_shoulder_gap`) on a grid over the whole
     turn, both elbow branches."""
     if K[L.B] != 0.0:
@@ -1315,8 +1328,10 @@ def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
     if a[0] * a[0] + a[1] * a[1] < 1e-24:
         return count  # a along axis 1: P' is at one distance from it for every d
     t, r = _line_to_axis1(p, a)
-    near = SHOULDER_NEAR if K[L.DEVIATION] == 0.0 else SHOULDER_SCAN_DEVIATING
-    if r > near * K[L.SCALE]:
+    if K[L.DEVIATION] == 0.0:
+        if r > SHOULDER_NEAR * K[L.SCALE]:
+            return count
+    elif _shoulder_offset(p, a, K) > SHOULDER_SCAN_DEVIATING:
         return count
     d = t - K[L.D7]
     if not (0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]):
@@ -1329,8 +1344,7 @@ def _scan_turn(front, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, ma
     """Every root of a gap in theta1 (``front`` 0: :func:`_shoulder_gap`, 3: :func:`_fold_axis_gap`)
     on a grid over the whole turn (:func:`_scan_piece`, nested pieces), both elbow branches."""
     sub = ws[_SUB:_SUB + 2 * SCAN_PIECES]
-    turn = (front == 0.0 and K[L.DEVIATION] > 0.0
-            and _line_to_axis1(p, a)[1] <= SHOULDER_EXACT_NEAR * K[L.SCALE])
+    turn = front == 0.0 and K[L.DEVIATION] > 0.0 and _shoulder_offset(p, a, K) <= SHOULDER_EXACT_NEAR
     for elbow in (1.0, -1.0):
         sub[0] = -math.pi
         sub[1] = math.pi
@@ -1357,22 +1371,36 @@ def _line_to_axis1(p, a):
 
 
 @njit
+def _shoulder_offset(p, a, K):
+    """The line of virtual centres' distance from axis 1 (``a`` not along it) relative to the
+    larger of the robot's size and the distance d of its closest point from the wrist: how far
+    a deviating model's virtual centre moves is the deviation's lengths plus d times its angles,
+    and near the fully bent wrist of a 45 deg twist d reaches 1,000 sizes and more."""
+    t, r = _line_to_axis1(p, a)
+    return r / max(K[L.SCALE], abs(t - K[L.D7]))
+
+
+@njit
 def _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
-    """Where the line of virtual centres passes within SHOULDER_EXACT_NEAR of the robot's size
-    from axis 1, on a model that deviates from the idealised one: every exact solution on the
+    """Where the line of virtual centres passes within SHOULDER_EXACT_NEAR of axis 1
+    (:func:`_shoulder_offset`), on a model that deviates from the idealised one: every exact solution on the
     elbow branch ``elbow`` over the whole turn of q1. There the deviation moves the virtual
     centre by as much as its distance from axis 1 or more, so the exact solutions lie anywhere
     in theta1, not only near the nominal gap's dips (an IRB 5400 pose with the line 1.1e-5 of
     the size from axis 1 has one 1.2 rad from the nearest dip). The exact model's reduced
     residual in q1 (:func:`_reduced_at`) is tracked over the turn on REDUCED_GRID cells, one
     closed curve per wrist sign, from the nominal arm and wrist at the first grid point the
-    branch reaches; the dip-centred scans of :func:`_shoulder_exact` (finer, SHOULDER_REACH
-    each way) still resolve the close pairs beside the dips."""
+    branch reaches, or where none does, from the nearest arm of the first that misses by less
+    than SHOULDER_TURN_SLACK; the dip-centred scans of :func:`_shoulder_exact` (finer,
+    SHOULDER_REACH each way) still resolve the close pairs beside the dips."""
     th = ws[_TH:_TH + _NTH]
     ok = False
-    for k in range(REDUCED_GRID):
-        t1 = K[L.SIGN] * (-math.pi + TWO_PI * k / REDUCED_GRID) + K[L.THETA_OFFSET1]
-        _, ok = _shoulder_gap(t1, p, a, elbow, K, th)
+    for slack in (1e-12, SHOULDER_TURN_SLACK):
+        for k in range(REDUCED_GRID):
+            t1 = K[L.SIGN] * (-math.pi + TWO_PI * k / REDUCED_GRID) + K[L.THETA_OFFSET1]
+            _, ok = _shoulder_gap(t1, p, a, elbow, K, th, slack)
+            if ok:
+                break
         if ok:
             break
     if not ok:
@@ -1415,11 +1443,11 @@ def _shoulder_exact(t1, elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
     other joints are regular, so they are the zeros of the exact model's reduced residual in q1
     (:func:`_reduced_at`), tracked from the nominal arm and wrist at the dip (both wrist signs)
     SHOULDER_REACH either way (:func:`_reduced_scan`). Only where the line of virtual
-    centres passes within SHOULDER_EXACT_FAR of the robot's size from axis 1, beyond
+    centres passes within SHOULDER_EXACT_FAR of axis 1 (:func:`_shoulder_offset`), beyond
     SHOULDER_EXACT_NEAR with the reach shrinking as its distance grows: further out the
     nominal candidates and their polish find these solutions (within SHOULDER_EXACT_NEAR the
     whole turn is scanned as well: :func:`_shoulder_turn`)."""
-    r = _line_to_axis1(p, a)[1] / K[L.SCALE]  # (a is not along axis 1: _scan_shoulder checked)
+    r = _shoulder_offset(p, a, K)  # (a is not along axis 1: _scan_shoulder checked)
     if r > SHOULDER_EXACT_FAR:
         return count
     if _dip_scanned(t1, elbow, ws):
@@ -2580,6 +2608,8 @@ def _partners(Td, K, out, count, ws, mats):
                     j = i
             reach = PARTNER_REACH * abs(Vt[5, j])
             for sg in (1.0, -1.0):
-                count = _reduced_scan(x.copy(), j, x[j], x[j] + sg * reach, PARTNER_CELLS, Td, K,
-                                      out, count, ws, mats)
+                # (from PARTNER_STEP of a cell beside x, not from x: the residual is zero at x, so
+                # the first cell's sign test would read rounding, and a partner in it was lost)
+                count = _reduced_scan(x.copy(), j, x[j] + sg * PARTNER_STEP * reach / PARTNER_CELLS,
+                                      x[j] + sg * reach, PARTNER_CELLS, Td, K, out, count, ws, mats)
     return count
