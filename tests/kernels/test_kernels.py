@@ -170,6 +170,21 @@ def test_rotation_log_inverts_the_exponential_up_to_pi():
         np.testing.assert_allclose(Rotation.from_rotvec(w).as_matrix(), R, atol=1e-9)
 
 
+@pytest.mark.parametrize(("lo", "hi"), [(0.0, 1.0), (1.0, 0.0)])
+def test_brent_minimiser_takes_its_bracket_in_either_order(lo, hi):
+    """A reduced scan toward smaller values hands Brent's minimiser its bracket high end first:
+    it must find the same least point (0.3 of a parabola, to its tolerance) as the other way
+    round (its stopping test took the reversed bracket as done at the first point, 0.618)."""
+    st, u = _poly.brent_start(lo, hi)
+    for _ in range(200):
+        st = _poly.brent_take(st, u, (u - 0.3) ** 2)
+        st, u, done = _poly.brent_next(st)
+        if done:
+            break
+    assert done
+    assert abs(st[2] - 0.3) <= 1e-6
+
+
 @pytest.mark.parametrize("undefined", [np.inf, np.nan])
 @pytest.mark.parametrize("edge", [0.05, 0.2, 0.45, 0.7])
 def test_brent_minimiser_where_the_function_is_undefined(edge, undefined):

@@ -169,6 +169,11 @@ SHOULDER_EXACT_FAR = 5e-4
 #: arm of the first that misses it by less than this in the elbow's cosine (rounded_b45: a
 #: source whose nominal arm is 0.026 mm, 7.2e-6 in the cosine, short of folded enough)
 SHOULDER_TURN_SLACK = 1e-3
+#: ... and a scan in q1 starts its wrist bent by this (rad) at least: from a straight one the
+#: five other joints' Gauss-Newton is singular (q4 and q7 on one axis) at every point of the turn,
+#: and its two wrist signs are one start (rounded_b35: the nominal arm's d clamped to DMIN, the
+#: source at q5 = 0.198 lost)
+SHOULDER_TURN_BEND = 2e-2
 #: ... and a dip within this (rad) of one already scanned on the same elbow branch in this pose is
 #: that dip: the root and the dip tests of the shoulder gap's scan found the same one twice, 1e-10
 #: apart, in 1 to 3 of a pose's 7 (IRB 5400), each time 40 reduced residuals more for the same
@@ -1418,7 +1423,7 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
     Q = mats[_Q, :3, :3]
     q = ws[_Q6:_Q6 + 6]
     qq = ws[_QQ:_QQ + 6]
-    t5 = th[6]
+    t5 = max(th[6], SHOULDER_TURN_BEND)
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
     v0 = q[0]
     for sgn in (1.0, -1.0):

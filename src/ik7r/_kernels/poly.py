@@ -564,7 +564,10 @@ def brent_start(lo, hi):
     for the next point until it says done: ``x`` (state[2]) is then the least point found,
     ``fx`` (state[5]) its value. Every minimiser of a bracket uses it (:func:`_least_abs`,
     :func:`ik7r._kernels.complete._gap_min`): about 10 to 40 values where plain golden section
-    took 100 or more."""
+    took 100 or more. ``lo`` and ``hi`` may come in either order (a scan toward smaller values
+    gives them so; its stopping test, taken as given, stopped at the first point)."""
+    if hi < lo:
+        lo, hi = hi, lo
     x = lo + _CGOLD * (hi - lo)
     inf = math.inf
     tol = _BRENT_TOL * (hi - lo) + 4.4e-16 * max(abs(lo), abs(hi)) + 1e-300  # (not below float spacing)
