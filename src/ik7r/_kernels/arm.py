@@ -65,7 +65,7 @@ def arm_ik(px, py, pz, Ld, front, elbow, t1_hint, K, slack=1e-12):
     on ``(px, py, pz)`` (frame 0). ``front`` (+-1) picks the shoulder branch (+1 reaches
     forward of the shoulder), ``elbow`` (+-1) the elbow branch. On axis 1 (shoulder
     singularity, zero lateral offset) theta1 is ``t1_hint``. Returns ``ok = False`` when the
-    point is out of reach (by more than rounding: the elbow's cosine beyond 1 by ``slack``; the
+    point is out of reach (by more than rounding: the elbow's cosine beyond 1 by more than ``slack``; the
     angles are then of the nearest arm)."""
     a1, a2, a3, b, e1, e3, scale = arm_params(K)
     rho, xx, xy, c, ok = arm_reach(px, py, pz, Ld, front, t1_hint, K, slack)

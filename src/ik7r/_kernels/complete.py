@@ -1388,8 +1388,8 @@ def _shoulder_offset(p, a, K):
 @njit
 def _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
     """Where the line of virtual centres passes within SHOULDER_EXACT_NEAR of axis 1
-    (:func:`_shoulder_offset`), on a model that deviates from the idealised one: every exact solution on the
-    elbow branch ``elbow`` over the whole turn of q1. There the deviation moves the virtual
+    (:func:`_shoulder_offset`), on a model that deviates from the idealised one: every exact
+    solution on the elbow branch ``elbow`` over the whole turn of q1. There the deviation moves the virtual
     centre by as much as its distance from axis 1 or more, so the exact solutions lie anywhere
     in theta1, not only near the nominal gap's dips (an IRB 5400 pose with the line 1.1e-5 of
     the size from axis 1 has one 1.2 rad from the nearest dip). The exact model's reduced
