@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 import pytest
-from helpers import source_distance
+from helpers import source_distance, wrap
 from reference_ik import among, reference_ik, singular_joints
 
 import ik7r
@@ -372,21 +372,34 @@ def test_near_shoulder_pair_in_a_backward_scan():
     assert _reference_missed(robot, q) == []
 
 
-@pytest.mark.xfail(strict=True, reason="issue 12 items 2 and 4, open: near the shoulder set a pair "
-                   "of roots of the reduced residual in q1 that the dip test's parabola does not see, "
-                   "and a sheet of the other wrist sign that no whole-turn scan tracks near the fully "
-                   "bent wrist; 2 sources of 12,000 near-shoulder poses (docs/guide/edges.md)")
-@pytest.mark.parametrize(("name", "q"), [
-    ("rounded_b35", [1.0145340297952004, 0.6727119044470666, -1.6764729373158769, -0.861947024969834,
-                     -2.948783371308666, 1.5568052718342473]),
-    ("rounded2", [0.7115718668347744, -1.584112426276012, 1.4083965390946114, -1.8959395449362173,
-                  2.504417390751846, 1.1321703219627572]),
-])
-def test_near_shoulder_known_misses(name, q):
-    """The near-shoulder sources still missed (near_shoulder.py, 1,500 poses per robot and seed
-    of each deviating robot): kept strict so that the fix that finds them has to say so."""
-    robot = _near_shoulder_robot(name, None)
+def test_near_shoulder_pair_in_a_notch_of_the_residual():
+    """generated(2), the line of virtual centres near axis 1: two exact solutions 0.015 rad apart
+    in q1 inside one cell of the whole turn, under grid values -9.0e-8, -6.1e-8, -3.1e-7 of the
+    reduced residual (the least-squares error 3.9e-5, 1.4e-5, 5.9e-5): a notch narrower than a
+    cell, which the parabola through the three values takes for a shallow minimum. A local
+    minimum of the error below DIP_NEAR is now a dip whatever its neighbours. Missed before,
+    with its partner (2 answers, now 4)."""
+    robot = _near_shoulder_robot("rounded2", None)
+    q = [0.7115718668347744, -1.584112426276012, 1.4083965390946114, -1.8959395449362173,
+         2.504417390751846, 1.1321703219627572]
     assert misses(robot, np.array([q])) == []
+    assert _reference_missed(robot, q) == []
+    sols = robot.ik_all(robot.fk(np.array(q)))
+    pair = sols[np.abs(wrap(sols[:, 0] - q[0])) < 0.05]
+    assert len(pair) == 2 and 0.005 < abs(wrap(pair[0, 0] - pair[1, 0])) < 0.05, pair
+
+
+def test_near_shoulder_other_wrist_at_a_dip_that_is_no_root():
+    """The rounded 35 deg robot, the wrist 0.19 rad from fully bent (q5 = -2.949) near the
+    shoulder set: every whole-turn scan in q1, from either wrist sign, crosses the fully bent
+    wrist and ends on the sheet of q5 > 0, whose residual dips at the source's arm (q1 = 1.0138)
+    without a root. The bottom of such a dip now starts a polish from its arm with the other
+    wrist (``_other_wrist``), which is the source. Missed before."""
+    robot = _near_shoulder_robot("rounded_b35", None)
+    q = [1.0145340297952004, 0.6727119044470666, -1.6764729373158769, -0.861947024969834,
+         -2.948783371308666, 1.5568052718342473]
+    assert misses(robot, np.array([q])) == []
+    assert _reference_missed(robot, q) == []
 
 
 @pytest.mark.parametrize("name", ["irb5400", "rounded_b35", "rounded_b45", "rounded2"])

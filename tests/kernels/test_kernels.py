@@ -586,3 +586,27 @@ def test_arm_just_out_of_reach_takes_the_nearest_arm_within_its_slack():
     out = arm(1.0 + 1e-6, 1e-3)
     assert out[3]
     assert np.abs(wrap(np.array(out[:3]) - np.array(inside[:3]))).max() <= 1e-3  # (sqrt(2 x 4e-6): 3e-4)
+
+
+@pytest.mark.parametrize("name", ["paper", "offsets"])
+def test_other_wrist_of_an_arm_is_its_other_solution(robots, name):
+    """``_other_wrist``: on the idealised model each arm comes with both wrists, so the other
+    wrist of an exact solution (its arm kept, theta5 of the other sign) is exact too, checked by
+    the reference's forward kinematics, and is no copy of the first (q5 of the other sign, q4
+    and q7 moved)."""
+    robot = robots[name]
+    K = robot.kernel_params
+    rng = np.random.default_rng(1204)
+    th, M = np.empty(6), np.empty((4, 4))
+    Q, W, qq, T07 = np.empty((3, 3)), np.empty((3, 3)), np.empty(6), np.empty((4, 4))
+    for _ in range(20):
+        q = rng.uniform(-np.pi, np.pi, 6)
+        q[4] = rng.choice([-1.0, 1.0]) * rng.uniform(0.1, np.pi - 0.1)
+        T = robot.fk(q)
+        _complete.frame07(T, K, T07)
+        _complete._other_wrist(q, T07[:3, :3].copy(), K, th, M, Q, W, qq)
+        assert np.array_equal(qq[:3], q[:3])
+        assert qq[4] * q[4] < 0.0 and abs(abs(qq[4]) - abs(q[4])) < 1e-12
+        F = reference_fk(robot, qq)
+        assert np.linalg.norm(F[:3, 3] - T[:3, 3]) <= robot.position_tolerance
+        assert np.abs(F[:3, :3] - T[:3, :3]).max() <= 2 * robot.rotation_tolerance

@@ -239,6 +239,13 @@ REDUCED_GRID = 48
 #: ... and a grid value of the reduced residual below this fraction of both its neighbours (one
 #: sign) is a dip to minimise (see :func:`_dips_to_zero`)
 DIP_SHARP = 0.1
+#: ... and a grid point whose least-squares error ``|e|`` (position over the size, and rad) is a
+#: local minimum below this is a dip whatever the shape of its neighbours: a near miss of the
+#: order of the deviation. Near the shoulder set the five other joints' least squares sharpen the
+#: residual into a notch narrower than a cell, which no three grid values can tell from a
+#: shallow minimum (generated(2): a pair of roots 0.015 rad apart under values -9.0e-8, -6.1e-8,
+#: -3.1e-7 of ``r``, ``|e|`` 3.9e-5, 1.4e-5, 5.9e-5).
+DIP_NEAR = 1e-4
 REDUCED_ITERS = 4
 #: ... stopping before a step below this (rad; see :func:`_reduced_at`)
 REDUCED_SETTLE = 1e-5
@@ -771,16 +778,39 @@ def _arm_frame(th, R07, K, ws, mats):
     """The arm of ``th`` (DH cosines and sines of theta1..3) made into frame 3 (``mats[_M]``),
     the wrist's target rotation for the flange ``R07`` (``mats[_Q]``, 3 x 3) and the arm's user
     angles (``q1..q3`` of ``ws[_Q6:_Q6 + 6]``)."""
-    M = mats[_M]
+    _arm_target(th, R07, K, mats[_M], mats[_Q, :3, :3])
+    q = ws[_Q6:_Q6 + 6]
+    for i in range(3):
+        q[i] = user_angle(i, _angle(th, i), K)
+
+
+@njit
+def _arm_target(th, R07, K, M, Q):
+    """Frame 3 of the arm of ``th`` (DH cosines and sines of theta1..3) into ``M`` (4, 4) and
+    the wrist's target rotation for the flange ``R07`` into ``Q`` (3, 3)."""
     for i in range(4):
         for j in range(4):
             M[i, j] = 1.0 if i == j else 0.0
     for i in range(3):
         dh_step_cs(M, K, L.NDH, L.TRIG + 14, i, th[i], th[3 + i])
-    wrist_target(M[:3, :3], R07, K, mats[_Q, :3, :3])
-    q = ws[_Q6:_Q6 + 6]
+    wrist_target(M[:3, :3], R07, K, Q)
+
+
+@njit
+def _other_wrist(q, R07, K, th, M, Q, W, qq):
+    """Make ``qq`` the arm of ``q`` (user joints 1 to 3) with the other wrist for the flange
+    ``R07``: DH theta5 of the other sign, theta4 (the nearest to ``q``'s) and theta7 from the
+    arm's wrist target. On the idealised model each arm comes with both; on a deviating one the
+    exact solution lies about the deviation from it. ``th`` (6,), ``M`` (4, 4), ``Q`` and ``W``
+    (3, 3) are work arrays."""
     for i in range(3):
-        q[i] = user_angle(i, _angle(th, i), K)
+        t = dh_angle(q, K, i)
+        th[i] = math.cos(t)
+        th[3 + i] = math.sin(t)
+    _arm_target(th, R07, K, M, Q)
+    t5 = -_theta5(q, K)
+    t4, t7 = wrist_ik_cs(Q, math.cos(t5), math.sin(t5), K[L.SIGN + 3] * q[3] + K[L.THETA_OFFSET4], K, W)
+    _completed(q, t4, t5, t7, K, qq)
 
 
 @njit
@@ -2287,7 +2317,8 @@ def _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO):
 def _cell_kind(rs, es, k, kb, closed):
     """What the reduced scan refines in its cell ``k`` (grid values ``rs`` signed, ``es`` the
     error's norm; ``kb`` the point before ``k``, on a closed curve m - 1 for k = 0): 1 a sign
-    change, 2 a dip of ``|e|`` toward zero without one (:func:`_dips_to_zero`), 0 nothing."""
+    change, 2 a dip of ``|e|`` toward zero without one (below DIP_NEAR, or by
+    :func:`_dips_to_zero`), 0 nothing."""
     ra = rs[k]
     rb = rs[k + 1]
     if not (math.isfinite(ra) and math.isfinite(rb)):
@@ -2295,7 +2326,8 @@ def _cell_kind(rs, es, k, kb, closed):
     if ra * rb < 0.0:
         return 1
     if ((0 < k or closed) and es[k] <= es[kb] and es[k] <= es[k + 1]
-            and math.isfinite(rs[kb]) and rs[kb] * ra > 0.0 and _dips_to_zero(rs[kb], ra, rb)):
+            and math.isfinite(rs[kb]) and rs[kb] * ra > 0.0
+            and (es[k] < DIP_NEAR or _dips_to_zero(rs[kb], ra, rb))):
         return 2
     return 0
 
@@ -2372,6 +2404,10 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
     rs = np.empty(m + 1)
     es = np.empty(m + 1)
     qt = np.empty(6)
+    th6 = np.empty(6)  # (the other wrist at a dip: see _other_wrist)
+    M3 = np.empty((4, 4))
+    Q3 = np.empty((3, 3))
+    W3 = np.empty((3, 3))
     memo = ws[_RSCAN:_RSCAN + SCAN_MEMO * _SCAN_SLOT]
     n = int(ws[_NRSCAN]) if m == REDUCED_GRID else 0
     joined = -1
@@ -2445,6 +2481,12 @@ def _reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
                     _reduced_root(qt, j, min(vx, vm), max(vx, vm), rx if vx < vm else rm,
                                   rm if vx < vm else rx, Td, K, T, J, A, e, g, dq, ZO)
                     count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
+            elif _bend(qm, K) > STRAIGHT_DEVIATING:
+                # a bottom that is no root: the other wrist of its arm may be a solution on a
+                # sheet this curve never reaches (it can cross the fully bent wrist, q5 = pi,
+                # onto the sheet it started beside)
+                _other_wrist(qm, mats[_R07, :3, :3], K, th6, M3, Q3, W3, qt)
+                count, _ = _accept(qt.copy(), Td, K, out, count, mats, False, False)
     if m == REDUCED_GRID and joined < 0:
         _scan_keep(memo, n, j, v0, v1, m, qs, rs, es, closed)
         ws[_NRSCAN] = n + 1
@@ -2469,7 +2511,6 @@ def _other_wrists(R07, Td, K, out, count, ws, mats):
     theta5 has the other sign starts a polish from its arm with the other wrist. Not at a straight
     wrist, whose neighbours the straight-wrist scan finds (:func:`_straight_family`)."""
     th = ws[_TH:_TH + _NTH]
-    q = ws[_Q6:_Q6 + 6]
     qq = ws[_QQ:_QQ + 6]
     n0 = count
     for s in range(n0):
@@ -2488,16 +2529,8 @@ def _other_wrists(R07, Td, K, out, count, ws, mats):
                 break
         if paired:
             continue
-        for i in range(3):
-            t = dh_angle(out[s], K, i)
-            th[i] = math.cos(t)
-            th[3 + i] = math.sin(t)
-        _arm_frame(th, R07, K, ws, mats)
-        for i in range(3):
-            q[i] = out[s, i]
-        t4_hint = K[L.SIGN + 3] * out[s, 3] + K[L.THETA_OFFSET4]
-        count, _ = _accept(_with_wrist(q, mats[_Q, :3, :3], -t5, math.cos(t5), -math.sin(t5), t4_hint,
-                                       K, mats, qq), Td, K, out, count, mats, False, False)
+        _other_wrist(out[s], R07, K, th, mats[_M], mats[_Q, :3, :3], mats[_WR, :3, :3], qq)
+        count, _ = _accept(qq, Td, K, out, count, mats, False, False)
     return count
 
 
