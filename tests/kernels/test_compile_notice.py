@@ -65,3 +65,55 @@ def test_constant_arguments_share_one_specialisation(tmp_path):
     count, signature = p.stdout.splitlines()[1].split(" ", 1)
     assert count == "1", p.stdout                            # not one per literal 3 / 1
     assert "Literal" not in signature and signature.count("int64") == 2
+
+
+CALLEE = "from ik7r._kernels.jit import njit\n\n@njit\ndef scale(x):\n    return x * {k}\n"
+CALLER = textwrap.dedent('''
+    from ik7r._kernels.jit import njit
+    from callee_for_test import scale
+
+    @njit
+    def entry(x):
+        return scale(x) + 1
+''')
+STAMPED_DRIVER = textwrap.dedent('''
+    import os, sys
+    sys.path.insert(0, sys.argv[1])
+    import ik7r._kernels.jit as jit
+    # the two files of this test stand for the kernel sources
+    jit._kernel_sources = lambda: tuple(os.path.realpath(os.path.join(sys.argv[1], f))
+                                        for f in ("callee_for_test.py", "caller_for_test.py"))
+    import caller_for_test
+    print(caller_for_test.entry(2))
+''')
+
+
+def test_an_edited_callee_recompiles_its_cached_caller(tmp_path):
+    """A kernel cached with the code of a kernel it calls from another file runs the edited
+    callee after an edit of that file alone (numba's own stamp is the caller's file: it ran
+    the old code)."""
+    (tmp_path / "caller_for_test.py").write_text(CALLER)
+    results = []
+    for k in (3, 5):
+        (tmp_path / "callee_for_test.py").write_text(CALLEE.format(k=k))
+        env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache"), "IK7R_QUIET": "1"}
+        p = subprocess.run([sys.executable, "-c", STAMPED_DRIVER, str(tmp_path)], capture_output=True,
+                           text=True, env=env, timeout=600)
+        assert p.returncode == 0, p.stderr
+        results.append(int(p.stdout.split()[0]))
+    assert results == [7, 11]                                # 2 * 3 + 1, then 2 * 5 + 1
+
+
+def test_every_kernel_source_enters_the_stamp(tmp_path):
+    from ik7r._kernels.jit import sources_stamp
+
+    files = [tmp_path / f"k{i}.py" for i in range(3)]
+    for f in files:
+        f.write_text("x = 1\n")
+    before = sources_stamp(files)
+    assert sources_stamp(files) == before
+    for i, f in enumerate(files):
+        f.write_text(f"x = {i + 2}\n")                       # (another size: a new key)
+        after = sources_stamp(files)
+        assert after != before
+        before = after

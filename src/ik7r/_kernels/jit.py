@@ -15,6 +15,12 @@ Two things happen here beside compiling:
   (``IK7R_QUIET=1`` silences it). Detecting this costs a look at the entry point's cache
   index (exists, and written for this source) on the first call of each entry point of a
   process (when numba looks for a compiled version), nothing afterwards.
+- **One stamp for all the kernel sources.** numba's cache of a kernel is keyed by the source
+  file that defines it, while the code it holds includes every kernel it calls, from other
+  files: an edit to ``complete.py`` left the cached ``select.ik_all_one`` running the old solver,
+  silently. The kernels are cached with one stamp, a hash of every kernel source
+  (:data:`ik7r._kernels.aot.SOURCES`, the files the compiled module's stamp covers too), so an
+  edit to any of them recompiles every kernel on its next use (:func:`sources_stamp`).
 - **One specialisation per kernel.** numba compiles a kernel called from another kernel once
   per distinct argument *type*, and a constant argument (``polish(q, T, K, 30)``, a count
   that starts at ``0``, ``True``) has its own literal type: the same kernel was compiled
@@ -25,6 +31,8 @@ Two things happen here beside compiling:
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import os
 import sys
 from typing import Any
@@ -50,6 +58,70 @@ if JIT_ENABLED:
         from numba import njit as _njit
     except ImportError:  # pragma: no cover
         _njit = None
+
+
+def sources_stamp(paths) -> bytes:
+    """A hash of the contents of the files ``paths`` (in the order given), remembered while
+    each file's modification time and size stay the same: the one source stamp of every
+    cached kernel defined in one of them."""
+    key = []
+    for path in paths:
+        st = os.stat(path)
+        key.append((str(path), st.st_mtime_ns, st.st_size))
+    key_t = tuple(key)
+    if key_t not in _stamps:
+        h = hashlib.sha256()
+        for path, _, _ in key_t:
+            h.update(path.encode())
+            with open(path, "rb") as f:
+                h.update(f.read())
+        _stamps[key_t] = h.digest()
+    return _stamps[key_t]
+
+
+_stamps: dict[tuple, bytes] = {}
+
+
+@functools.lru_cache(maxsize=1)
+def _kernel_sources() -> tuple[str, ...]:
+    from . import aot  # (its SOURCES: the kernel modules and the files compiled into them)
+
+    return tuple(os.path.realpath(aot.HERE / name) for name in aot.SOURCES)
+
+
+class _AllKernelSources:
+    """Mixed into each of numba's source-file cache locators: for a function defined in a
+    kernel source, the cache's source stamp is :func:`sources_stamp` of all of them (numba's
+    own is its file's alone); other functions are left to numba's locators."""
+
+    @classmethod
+    def from_function(cls, py_func, py_file):
+        if os.path.realpath(py_file) not in _kernel_sources():
+            return None
+        return super().from_function(py_func, py_file)  # type: ignore[misc]
+
+    def get_source_stamp(self):
+        return sources_stamp(_kernel_sources())
+
+
+def _install_locators() -> None:
+    """Put a locator with :class:`_AllKernelSources` before each of numba's source-file
+    locators (the same cache folders, one stamp). A numba without that layout keeps its own
+    (per-file stamps)."""
+    try:
+        from numba.core import caching
+
+        impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl  # (_CacheImpl before 0.61)
+        locators = impl._locator_classes
+        bases = [c for c in locators if issubclass(c, caching._SourceFileBackedLocatorMixin)]
+    except (ImportError, AttributeError):  # pragma: no cover - another numba
+        return
+    locators[0:0] = [type(f"Kernels{c.__name__}", (_AllKernelSources, c), {"__module__": __name__})
+                       for c in bases]
+
+
+if _njit is not None:
+    _install_locators()
 
 _announced: set[str] = set()
 
