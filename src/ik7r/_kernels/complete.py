@@ -28,7 +28,6 @@ from .fk import (
     polish,
     pose_error,
     residual,
-    solve6,
     user_angle,
 )
 from .jit import njit, shared
@@ -2238,22 +2237,7 @@ def _reduced_at(q, j, v, Td, K, T, J, A, e, g, dq, ZO):
                 J[r, c] *= w
         if it == REDUCED_ITERS:
             break
-        for a_ in range(6):
-            g[a_] = 0.0
-            for b_ in range(6):
-                A[a_, b_] = 0.0
-            if a_ == j:
-                A[a_, a_] = 1.0
-                continue
-            for r in range(6):
-                g[a_] += J[r, a_] * e[r]
-            for b_ in range(6):
-                if b_ != j:
-                    s = 0.0
-                    for r in range(6):
-                        s += J[r, a_] * J[r, b_]
-                    A[a_, b_] = s
-        if solve6(A, g, dq) < 1e-15:
+        if _least_squares_step(J, e, j, A, g, dq) < 1e-15:
             ok = False
             break
         big = 0.0
@@ -2280,6 +2264,62 @@ def _reduced_at(q, j, v, Td, K, T, J, A, e, g, dq, ZO):
     if not (norm < 1e300):
         return 0.0, math.inf, False
     return _det6(A), math.sqrt(norm), ok
+
+
+@njit
+def _least_squares_step(J, e, j, A, g, dq):
+    """The Gauss-Newton step ``dq`` (6,) in the five joints other than ``j`` for the error ``e``
+    with the Jacobian ``J`` (6, 6): the least-squares solution of ``J_o dq_o = e``, by the
+    normal equations, which are symmetric and positive definite, so by Cholesky (half the work
+    of an elimination with pivoting, the reduced residual's largest cost); ``dq[j]`` = 0.
+    Returns the least pivot of the factorisation relative to the largest diagonal entry (0
+    where it is not positive definite: a singular Jacobian). ``A`` (6, 6) and ``g`` (6,) are
+    work arrays."""
+    big = 0.0
+    for a_ in range(5):
+        ca = a_ if a_ < j else a_ + 1
+        s = 0.0
+        for r in range(6):
+            s += J[r, ca] * e[r]
+        g[a_] = s
+        for b_ in range(a_ + 1):
+            cb = b_ if b_ < j else b_ + 1
+            s = 0.0
+            for r in range(6):
+                s += J[r, ca] * J[r, cb]
+            A[a_, b_] = s
+        big = max(big, A[a_, a_])
+    if not big > 0.0:
+        return 0.0
+    small = big
+    for k in range(5):  # (A = L L^T, L in the lower triangle)
+        d = A[k, k]
+        for m in range(k):
+            d -= A[k, m] * A[k, m]
+        if not d > 0.0:
+            return 0.0
+        small = min(small, d)
+        lk = math.sqrt(d)
+        A[k, k] = lk
+        for i in range(k + 1, 5):
+            s = A[i, k]
+            for m in range(k):
+                s -= A[i, m] * A[k, m]
+            A[i, k] = s / lk
+    for i in range(5):  # L y = g
+        s = g[i]
+        for m in range(i):
+            s -= A[i, m] * g[m]
+        g[i] = s / A[i, i]
+    for i in range(4, -1, -1):  # L^T x = y
+        s = g[i]
+        for m in range(i + 1, 5):
+            s -= A[m, i] * g[m]
+        g[i] = s / A[i, i]
+    dq[j] = 0.0
+    for a_ in range(5):
+        dq[a_ if a_ < j else a_ + 1] = g[a_]
+    return small / big
 
 
 @njit
