@@ -69,7 +69,8 @@ SIGNATURES: dict[str, tuple[str, tuple[str, ...], Any]] = {
 }
 
 #: Source files whose code (or constants) the compiled module holds: every kernel module (this
-#: one's :data:`SIGNATURES` enter the stamp by value) and the family's joint-angle bound.
+#: one's :data:`SIGNATURES` enter the stamp by value) and the family's joint-angle bound. The
+#: JIT's cache of every kernel is stamped with a hash of the same files (:mod:`.jit`).
 SOURCES = sorted([*(p.name for p in HERE.glob("*.py") if p.name not in ("__init__.py", "aot.py")),
                   "../robot/family.py", "../geometry/rotations.py", "../geometry/configs.py"])
 # (family.py and the two geometry modules hold functions compiled into the kernels: the family's
