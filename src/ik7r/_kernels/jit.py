@@ -98,7 +98,7 @@ class _AllKernelSources:
     def from_function(cls, py_func, py_file):
         if os.path.realpath(py_file) not in _kernel_sources():
             return None
-        return super().from_function(py_func, py_file)  # type: ignore[misc]
+        return super().from_function(py_func, py_file)
 
     def get_source_stamp(self):
         return sources_stamp(_kernel_sources())
@@ -111,7 +111,8 @@ def _install_locators() -> None:
     try:
         from numba.core import caching
 
-        impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl  # (_CacheImpl before 0.61)
+        # (named _CacheImpl before numba 0.61)
+        impl: Any = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl", None)
         locators = impl._locator_classes
         bases = [c for c in locators if issubclass(c, caching._SourceFileBackedLocatorMixin)]
     except (ImportError, AttributeError):  # pragma: no cover - another numba
