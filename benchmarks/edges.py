@@ -164,12 +164,14 @@ KNOWN_HARD = [
     # the same next to the fully bent wrist of a 35 deg twist: 2.1 ms before ISOLATE_BUDGET
     ("offsets_b35", [2.5226460001807283, -0.9382816531859186, 1.4014886777378939, -1.1438908085544641,
                      3.141592411072742, -0.38797221005021676]),
-    # near the shoulder set, candidates within its straight-wrist window (theta5 < 0.2) scan
-    # twelve straight-wrist curves that find nothing new after the first: about 4.3 ms
     # a straight wrist beside the shoulder set: 26 whole-turn straight-wrist scans of 4 curves,
-    # 17 ms (on a machine where the paper robot's median is 17 us) before scans joined a curve
+    # 17 ms (on a machine where the paper robot's median is 17 us) before scans joined a curve;
+    # 6.5 ms on 2026-12-04 (eight families, six of them adding nothing: docs/guide/edges.md)
     ("rounded_b45", [0.4501849955241335, 1.3315137868387232, 2.105068308873941, -0.36118377721668216,
                      0.0, -0.7134564149856786]),
+    # near the shoulder set, candidates within its straight-wrist window (theta5 < 0.2) scan
+    # the straight-wrist curves of six families, which find nothing new after the first:
+    # 4.3 ms when it was added, 6.4 ms on 2026-12-04 (the sheets' half turns back since)
     ("rounded_gen2", [-2.5570514234111044, -1.5688991395606804, 1.3754483506832722, -2.8695768105084016,
                       -0.16103639605109965, 2.295022266023664]),
 ]
