@@ -171,7 +171,8 @@ KNOWN_HARD = [
                      0.0, -0.7134564149856786]),
     # near the shoulder set, candidates within its straight-wrist window (theta5 < 0.2) scan
     # the straight-wrist curves of six families, which find nothing new after the first:
-    # 4.3 ms when it was added, 6.4 ms on 2026-12-04 (the sheets' half turns back since)
+    # 4.3 ms when it was added, 6.4 ms on 2026-12-04 (each family now scans its sheets and their
+    # half turns back)
     ("rounded_gen2", [-2.5570514234111044, -1.5688991395606804, 1.3754483506832722, -2.8695768105084016,
                       -0.16103639605109965, 2.295022266023664]),
 ]
