@@ -1051,7 +1051,7 @@ def _shoulder_bend(t1, p, a, K):
         return 0.0, 0.0, False
     d = (-s1 * p[0] + c1 * p[1]) / an - K[L.D7]
     if not (K[L.DMIN] <= d <= K[L.DMAX]):
-        if K[L.DEVIATION] == 0.0 or not (0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]):
+        if K[L.DEVIATION] == 0.0 or not _d_near_range(d, K):
             return 0.0, 0.0, False
         d = min(K[L.DMAX], max(K[L.DMIN], d))
     t5 = theta5_cs_of_d(d, K)[0]
@@ -1368,7 +1368,7 @@ def _scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
     elif _shoulder_offset(p, a, K) > SHOULDER_SCAN_DEVIATING:
         return count
     d = t - K[L.D7]
-    if not (0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]):
+    if not _d_near_range(d, K):
         return count
     return _scan_turn(0.0, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
 
@@ -1410,7 +1410,14 @@ def _turn_scanned(p, a, K):
         return False
     t, _ = _line_to_axis1(p, a)
     d = t - K[L.D7]
-    return (0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]) and _shoulder_offset(p, a, K) <= SHOULDER_EXACT_NEAR
+    return _d_near_range(d, K) and _shoulder_offset(p, a, K) <= SHOULDER_EXACT_NEAR
+
+
+@njit
+def _d_near_range(d, K):
+    """Whether ``d`` is within 2 % of the robot's range of d (the shoulder scans' window: a
+    deviating model's solutions there may come from a nominal d just beyond the range)."""
+    return 0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]
 
 
 @njit
