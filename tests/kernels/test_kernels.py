@@ -624,6 +624,47 @@ def test_arm_just_out_of_reach_takes_the_nearest_arm_within_its_slack():
     assert np.abs(wrap(np.array(out[:3]) - np.array(inside[:3]))).max() <= 1e-3  # (sqrt(2 x 4e-6): 3e-4)
 
 
+@pytest.mark.parametrize("name", ["paper", "offsets", "irb5400"])
+def test_arm_cosines_and_sines_place_the_point_of_the_reference_arm(robots, name):
+    """``arm_cs`` (the arm's cosines and sines without a trigonometric call, what the bend gaps
+    use): for random DH angles of joints 1 to 3, the point at ``Ld`` along axis 4 made by the
+    reference's DH links is placed again by one of the four branches, whose cosines and sines
+    are those of the angles; ``arm_ik``'s angles are theirs, in (-pi, pi]."""
+    from reference_ik import _link
+
+    from ik7r._kernels import arm as _arm
+
+    robot = robots[name] if name in robots else ik7r.load_robot(name)
+    K = robot.kernel_params
+    dh = np.array(robot.dh, float)
+    rng = np.random.default_rng(1205)
+    worst = 0.0
+    for _ in range(200):
+        th = rng.uniform(-np.pi, np.pi, 3)
+        T = np.eye(4)
+        for i in range(4):
+            T = T @ _link(dh[i, 0], dh[i, 1], np.array([th[i] if i < 3 else 0.0]), dh[i, 2])[0]
+        extra = rng.uniform(0.0, 0.2) * K[_layout.SCALE]
+        P = T[:3, 3] + extra * T[:3, 2]
+        Ld = K[_layout.D4] + extra
+        best = np.inf
+        for front in (1.0, -1.0):
+            for elbow in (1.0, -1.0):
+                c1, s1, c2, s2, c3, s3, ok = _arm.arm_cs(P[0], P[1], P[2], Ld, front, elbow, 0.0, K)
+                t1, t2, t3, ok_ik = _arm.arm_ik(P[0], P[1], P[2], Ld, front, elbow, 0.0, K)
+                if not ok:
+                    continue
+                assert ok_ik
+                got = np.array([[c1, s1], [c2, s2], [c3, s3]])
+                angles = np.array([t1, t2, t3])
+                assert np.all(np.abs(angles) <= np.pi)
+                assert np.abs(np.column_stack([np.cos(angles), np.sin(angles)]) - got).max() < 1e-12
+                assert np.abs(np.hypot(got[:, 0], got[:, 1]) - 1.0).max() < 1e-12
+                best = min(best, np.abs(got - np.column_stack([np.cos(th), np.sin(th)])).max())
+        worst = max(worst, best)
+    assert worst < 1e-9
+
+
 @pytest.mark.parametrize("name", ["paper", "offsets"])
 def test_other_wrist_of_an_arm_is_its_other_solution(robots, name):
     """``_other_wrist``: on the idealised model each arm comes with both wrists, so the other

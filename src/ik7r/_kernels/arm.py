@@ -60,23 +60,53 @@ def arm_reach(px, py, pz, Ld, front, t1_hint, K, slack=1e-12):
 
 
 @njit
-def arm_ik(px, py, pz, Ld, front, elbow, t1_hint, K, slack=1e-12):
-    """DH angles (theta1, theta2, theta3) placing the point at distance ``Ld`` along axis 4
-    on ``(px, py, pz)`` (frame 0). ``front`` (+-1) picks the shoulder branch (+1 reaches
-    forward of the shoulder), ``elbow`` (+-1) the elbow branch. On axis 1 (shoulder
-    singularity, zero lateral offset) theta1 is ``t1_hint``. Returns ``ok = False`` when the
-    point is out of reach (by more than rounding: the elbow's cosine beyond 1 by more than ``slack``; the
-    angles are then of the nearest arm)."""
+def arm_cs(px, py, pz, Ld, front, elbow, t1_hint, K, slack=1e-12):
+    """The cosines and sines of :func:`arm_ik`'s angles, from the same triangle without a
+    trigonometric call: (c1, s1, c2, s2, c3, s3, ok). The scans evaluate the bend gap, which
+    needs only these, hundreds of times a pose."""
     a1, a2, a3, b, e1, e3, scale = arm_params(K)
     rho, xx, xy, c, ok = arm_reach(px, py, pz, Ld, front, t1_hint, K, slack)
-    if px * px + py * py > (1e-13 * scale) ** 2:
-        t1 = shoulder_angle(rho, px, py, -e1 * b)
+    if _off_axis1(px, py, K):
+        # theta1 = atan2(v, u) (:func:`shoulder_angle`); |(u, v)| > 0 here
+        bp = -e1 * b
+        u = rho * px + bp * py
+        v = rho * py - bp * px
+        n = math.sqrt(u * u + v * v)
+        c1 = u / n
+        s1 = v / n
     else:
-        t1 = t1_hint
-    t3 = math.atan2(e3 * Ld, a3) + elbow * math.acos(c)
-    c3 = math.cos(t3)
-    s3 = math.sin(t3)
+        c1 = math.cos(t1_hint)
+        s1 = math.sin(t1_hint)
+    # theta3 = atan2(eps3 L, a3) + elbow acos(c)
+    R = math.hypot(a3, Ld)
+    cf, sf = (a3 / R, e3 * Ld / R) if R > 0.0 else (1.0, 0.0)
+    sa = elbow * math.sqrt(max(0.0, (1.0 - c) * (1.0 + c)))
+    c3 = cf * c - sf * sa
+    s3 = sf * c + cf * sa
+    # theta2 = atan2(xy, xx) - atan2(y2, x2)
     x2 = a2 + a3 * c3 + e3 * Ld * s3
     y2 = a3 * s3 - e3 * Ld * c3
-    t2 = math.atan2(xy, xx) - math.atan2(y2, x2)
-    return t1, t2, t3, ok
+    n = math.hypot(xx, xy)
+    cx, sx = (xx / n, xy / n) if n > 0.0 else (1.0, 0.0)
+    n = math.hypot(x2, y2)
+    cy, sy = (x2 / n, y2 / n) if n > 0.0 else (1.0, 0.0)
+    return c1, s1, cx * cy + sx * sy, sx * cy - cx * sy, c3, s3, ok
+
+
+@njit
+def arm_ik(px, py, pz, Ld, front, elbow, t1_hint, K, slack=1e-12):
+    """DH angles (theta1, theta2, theta3) placing the point at distance ``Ld`` along axis 4
+    on ``(px, py, pz)`` (frame 0), each in (-pi, pi]. ``front`` (+-1) picks the shoulder branch
+    (+1 reaches forward of the shoulder), ``elbow`` (+-1) the elbow branch. On axis 1 (shoulder
+    singularity, zero lateral offset) theta1 is ``t1_hint``. Returns ``ok = False`` when the
+    point is out of reach (by more than rounding: the elbow's cosine beyond 1 by more than
+    ``slack``; the angles are then of the nearest arm)."""
+    c1, s1, c2, s2, c3, s3, ok = arm_cs(px, py, pz, Ld, front, elbow, t1_hint, K, slack)
+    t1 = math.atan2(s1, c1) if _off_axis1(px, py, K) else t1_hint
+    return t1, math.atan2(s2, c2), math.atan2(s3, c3), ok
+
+
+@njit
+def _off_axis1(px, py, K):
+    """Whether ``(px, py)`` is off axis 1 by more than rounding (else theta1 is the hint's)."""
+    return px * px + py * py > (1e-13 * K[L.SCALE]) ** 2

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..geometry import rotations
 from . import params as L
-from .arm import arm_ik, arm_params, arm_reach, shoulder_angle
+from .arm import arm_cs, arm_params, arm_reach, shoulder_angle
 from .fk import (
     dh_angle,
     dh_step_cs,
@@ -1001,16 +1001,14 @@ def _bend_gap(t5, p, a, front, elbow, K, th, t1_hint=0.0, in_plane=False, slack=
     where the branch does not reach. ``t1_hint``: theta1 when the virtual centre is on axis 1;
     ``th[6]`` gets t5. ``in_plane``: theta1 is ``t1_hint`` (the virtual centre is taken in
     that arm plane: near axis 1 its direction from the axis is rounding noise). ``slack``:
-    how far the arm may miss the centre (:func:`ik7r._kernels.arm.arm_ik`)."""
+    how far the arm may miss the centre (:func:`ik7r._kernels.arm.arm_ik`; the arm's cosines and
+    sines come from :func:`ik7r._kernels.arm.arm_cs`, without a trigonometric call)."""
     x, d, px, py, pz, ok = _bend_centre(t5, p, a, K, t1_hint, in_plane)
     if not ok:
         return 0.0, False  # the fold of a 45 deg twist: the virtual centre is at infinity
-    t1, t2, t3, ok = arm_ik(px, py, pz, K[L.D4] + d, front, elbow, t1_hint, K, slack)
+    c1, s1, c2, s2, c3, s3, ok = arm_cs(px, py, pz, K[L.D4] + d, front, elbow, t1_hint, K, slack)
     if not ok:
         return 0.0, False
-    c1, s1 = math.cos(t1), math.sin(t1)
-    c2, s2 = math.cos(t2), math.sin(t2)
-    c3, s3 = math.cos(t3), math.sin(t3)
     th[0], th[1], th[2], th[3], th[4], th[5], th[6] = c1, c2, c3, s1, s2, s3, t5
     cp = c2 * c3 - s2 * s3  # psi = theta2 + theta3
     sp = s2 * c3 + c2 * s3
