@@ -284,6 +284,26 @@ def test_straight_wrist_no_duplicates(paper):
     assert bad == [], bad
 
 
+@pytest.mark.xfail(strict=True, raises=RuntimeError, reason=(
+    "open (issue 12): the elbow exactly stretched, axis 7 beside axis 1 and the wrist nearly "
+    "straight: the exact points of the pose form clusters wider than DUP_TOL, not joined by "
+    "straight segments, and ik_all finds more than MAX_SOLUTIONS of them (docs/guide/edges.md)"))
+def test_stretched_elbow_beside_axis1_with_a_nearly_straight_wrist(paper):
+    """The paper robot's arm straight up with the elbow exactly stretched (q2 = 90, q3 = -90 deg)
+    and the wrist bent by 1.5e-7 rad: ik_all should answer (the source among its answers, each
+    exact on the reference's forward kinematics) instead of raising that its output is full. On
+    such poses (q3 exactly -90 deg, q2 within 1e-8 of 90 deg, q5 from 1e-9 to 1e-3) it raised for
+    25 to 70 % of random q1, q4, q7 and answered with more than 16 shadows of one wrist for many
+    of the others; with q3 1e-8 rad off the stretch it answers normally."""
+    q = np.array([-2.2039032284448443, np.pi / 2, -np.pi / 2, -0.6231776777007894,
+                  -1.4744191030186713e-07, 2.9745409973882584])
+    T = paper.fk(q)
+    sols = paper.ik_all(T)
+    assert_exact(paper, sols, T)
+    assert source_found(paper, sols, q, T)
+    assert len(sols) <= 16
+
+
 def test_axis7_on_axis1_split_from_the_seed(paper):
     """Axis 7 on axis 1: ik takes q1 and the q4/q7 split from the seed, the split by the
     documented rule (q4 and q7 each move by half the difference of s4 q4 + s7 q7 from the
