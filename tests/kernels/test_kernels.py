@@ -629,7 +629,8 @@ def test_straight_snap_beside_axis1_with_the_elbow_stretched_is_polished_straigh
     [0.3, 90, -90, 0, 0, 0] deg on the paper robot). The polynomial's arm there is 4.4e-7 rad off
     in q2 (a double root, good to about sqrt(eps)); the damped polish free in q5 took that up with
     a bend of 4e-7 (one of the two nearly straight shadows) and the snap was given up, so the
-    answer depended on a later candidate landing exactly. Held straight (``_straight_pinned``),
+    answer depended on a later candidate landing exactly. Held straight (``fk.polish`` with ``free``
+    4: q1..q4 move, q5 and q7 are held),
     the snap polishes to an exactly straight solution the reference's forward kinematics
     confirms."""
     robot = robots["paper"]

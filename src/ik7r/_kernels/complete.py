@@ -28,7 +28,6 @@ from .fk import (
     polish,
     pose_error,
     residual,
-    solve6,
     user_angle,
 )
 from .jit import njit, shared
@@ -100,9 +99,6 @@ FOLD_WINDOW = 1e-4
 FOLD_SNAP = 0.5 * DUP_TOL
 #: A solution with theta5 within this (rad) of 0 is exactly straight: only s4 q4 + s7 q7 counts.
 STRAIGHT_EXACT = 1e-9
-#: The damping of :func:`_straight_pinned`, relative to the mean squared singular value (as
-#: ``fk.POLISH_DAMPING``).
-STRAIGHT_PIN_DAMPING = 1e-16
 #: Two exact solutions closer than this (rad, every joint) are one when the segment between
 #: them is exact too (see :func:`_add`).
 MERGE_WINDOW = 1e-2
@@ -438,15 +434,17 @@ def _straight_damped(qq, Td, K, hint, has_hint, mats):
     straight point, else True, with q1 as the arm set it (the seed's; the continuum of axis 7 on axis 1 turns
     the wrist's sum with it) and the split of :func:`_split_sum`. (There the arm's root is only
     good to about sqrt(eps), a double root, and the FK is flat: Newton cannot polish the snap, and
-    the two bends +-t5 beside it are shadows of the one straight solution; where the damped
-    polish lands on one of them, :func:`_straight_pinned` polishes the snap with the wrist held.)"""
+    the two bends +-t5 beside it are shadows of the one straight solution. With the elbow
+    stretched there as well, the arm's error is a few 1e-7 rad and the damped polish, free in
+    q5, takes it up with a bend of the same size, one of those shadows: the snap is then polished
+    again with the wrist held straight, q1..q4 alone, where that error is first order.)"""
     q1 = qq[0]
     s0, s1, s2, s3, s5 = qq[0], qq[1], qq[2], qq[3], qq[5]
     if not polish(qq, Td, K, 8, True) or _bend(qq, K) > STRAIGHT_EXACT:
         # (the polish left the straight wrist for a shadow beside it: hold the wrist instead)
         qq[0], qq[1], qq[2], qq[3], qq[5] = s0, s1, s2, s3, s5
         qq[4] = user_angle(4, 0.0, K)
-        if not _straight_pinned(qq, Td, K):
+        if not polish(qq, Td, K, 8, True, 0, 0.0, 4):  # (q5 and q7 held)
             return False
     qq[4] = user_angle(4, 0.0, K)
     T = mats[_T]
@@ -461,55 +459,6 @@ def _straight_damped(qq, Td, K, hint, has_hint, mats):
             break
     _split_sum(qq, K[L.SIGN + 3] * qq[3] + K[L.SIGN + 6] * qq[5], K, hint, has_hint)
     return True
-
-
-@njit(allocates=True)
-def _straight_pinned(qq, Td, K):
-    """Damped Gauss-Newton on q1..q4 of the straight snap ``qq`` (q5 straight and q7 held), in
-    place; True when it meets the pose. With the elbow stretched beside axis 7 on axis 1 the
-    arm's root is good to about sqrt(eps) (a few 1e-7 rad), and a polish free in q5 takes up
-    that error with a bend of the same size (one of the two nearly straight shadows of the
-    straight solution); with the wrist held the arm's error is first order, and one or two
-    steps remove it. Damped as :func:`ik7r._kernels.fk.polish` is on the shoulder set: the
-    joints the pose leaves free (q1 and q4 about one axis) keep their values."""
-    T = np.empty((4, 4))
-    J = np.empty((6, 6))
-    ZO = np.empty((7, 6))
-    e = np.empty(6)
-    dq = np.empty(6)
-    A = np.empty((6, 6))
-    w = 1.0 / K[L.SCALE]
-    for _ in range(8):
-        fk_jacobian(qq, K, T, J, ZO)
-        dp, dr = residual(T, Td)
-        if dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]:
-            return True
-        if not (dp < 1e300 and dr < 1e300):
-            return False
-        pose_error(T, Td, e, ZO[:3, :3])
-        for r in range(3):
-            e[r] *= w
-            for c in range(6):
-                J[r, c] *= w
-        tr = 0.0
-        for i in range(6):
-            g = 0.0
-            for r in range(6):
-                g += J[r, i] * e[r]
-            dq[i] = g if i < 4 else 0.0
-            for j in range(6):
-                s = 0.0
-                for r in range(6):
-                    s += J[r, i] * J[r, j]
-                A[i, j] = s if i < 4 and j < 4 else (1.0 if i == j else 0.0)
-            tr += A[i, i] if i < 4 else 0.0
-        for i in range(4):
-            A[i, i] += STRAIGHT_PIN_DAMPING * tr / 4.0
-        if solve6(A, dq, e) <= 0.0:  # (the step into e)
-            return False
-        for i in range(4):
-            qq[i] += e[i]
-    return False
 
 
 @njit
