@@ -438,11 +438,10 @@ def _straight_damped(qq, Td, K, hint, has_hint, mats):
     stretched there as well, the arm's error is a few 1e-7 rad and the damped polish, free in
     q5, takes it up with a bend of the same size, one of those shadows: the snap is then polished
     again with the wrist held straight, q1..q4 alone, where that error is first order.)"""
-    q1 = qq[0]
-    s0, s1, s2, s3, s5 = qq[0], qq[1], qq[2], qq[3], qq[5]
+    q1, q2, q3, q4_snap, q7 = qq[0], qq[1], qq[2], qq[3], qq[5]
     if not polish(qq, Td, K, 8, True) or _bend(qq, K) > STRAIGHT_EXACT:
         # (the polish left the straight wrist for a shadow beside it: hold the wrist instead)
-        qq[0], qq[1], qq[2], qq[3], qq[5] = s0, s1, s2, s3, s5
+        qq[0], qq[1], qq[2], qq[3], qq[5] = q1, q2, q3, q4_snap, q7
         qq[4] = user_angle(4, 0.0, K)
         if not polish(qq, Td, K, 8, True, 0, 0.0, 4):  # (q5 and q7 held)
             return False
@@ -2677,6 +2676,7 @@ def _partners(Td, K, out, count, ws, mats):
     ep = np.empty(6)
     qt = np.empty(6)
     w = 1.0 / K[L.SCALE]
+    turned = _turn_scanned(ws[_P:_P + 3], ws[_A:_A + 3], K)  # (once per pose, not per partner)
     s = -1
     while s + 1 < count:  # (each new row a distinct solution: bounded by the output's size)
         s += 1
@@ -2720,7 +2720,7 @@ def _partners(Td, K, out, count, ws, mats):
             for i in range(6):
                 if abs(Vt[5, i]) > abs(Vt[5, j]):
                     j = i
-            if j == 0 and _turn_scanned(ws[_P:_P + 3], ws[_A:_A + 3], K):
+            if j == 0 and turned:
                 continue
             reach = PARTNER_REACH * abs(Vt[5, j])
             for sg in (1.0, -1.0):
