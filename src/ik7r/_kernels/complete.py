@@ -21,6 +21,7 @@ from ..geometry import rotations
 from . import params as L
 from .arm import arm_cs, arm_params, arm_reach, shoulder_angle
 from .fk import (
+    ALL_JOINTS,
     dh_angle,
     dh_step_cs,
     fk_jacobian,
@@ -102,6 +103,21 @@ STRAIGHT_EXACT = 1e-9
 #: Two exact solutions closer than this (rad, every joint) are one when the segment between
 #: them is exact too (see :func:`_add`).
 MERGE_WINDOW = 1e-2
+#: Axis 4 on axis 1 (the arm stretched along it: the paper robot's q2 = 90, q3 = -90 deg) turns
+#: joints 1 and 4 together without moving the tool: an exact solution there is a continuum, kept
+#: once, at the seed's q1 (else 0; see :func:`_add`). An exact point within CONTINUUM_WINDOW (rad,
+#: every joint) of the continuum's point at its own q1 is that solution when a walk from that
+#: point to it stays exact (:func:`_walked`, its points WALK_STEP apart): next to the continuum
+#: the FK is flat, and the scans' exact points there (and the continuum's own isolated neighbours,
+#: whose Jacobian's smallest singular value is about 1e-14 of its largest) are its shadows. In a
+#: pose with such a continuum the same walk joins two exact points of the shoulder set this close
+#: (elsewhere it would join distinct solutions of a near-shoulder pose, 1.3e-3 rad apart in q1,
+#: that the straight segment of :func:`_joined` keeps apart).
+CONTINUUM_WINDOW = 3e-2
+WALK_STEP = 2e-3
+#: ... and a point of the continuum turned to another joint 1 that misses the pose by no more
+#: than this many times the tolerances is polished onto it (see :func:`_turn_onto`).
+TURN_SLACK = 100.0
 #: A candidate of the idealised model on the shoulder singular set (:func:`_on_shoulder_set`)
 #: whose Jacobian is singular is polished by damped steps (:func:`ik7r._kernels.fk.polish`) when
 #: no solution found lies within this (rad, every joint): there a nearly straight wrist makes
@@ -289,7 +305,13 @@ def _offsets(**sizes):
 # One work array per pose (see solve_into) holds every scratch block.
 # Its small matrices are one block viewed as a stack of 4 x 4 matrices (``mats``, made once per
 # pose: a view of a stack entry costs nothing, a reshape does); these are their indices.
-_T07, _R07, _M, _Q, _T, _WR, _PSI = range(7)
+_T07, _R07, _M, _Q, _T, _WR, _PSI, _CW, _WALK = range(9)
+#: The entry _CW of the stack: the joint 1 of the turn of axis 4 on axis 1 (see :func:`_add`),
+#: at this index of its 16 values (the seed's q1, else 0), and at _CW_FOUND 1 once the pose has
+#: such a continuum; the rest is the turn's scratch. The entry _WALK: a walk's point and the one
+#: before it (:func:`_walked`).
+_CW_REF = 12
+_CW_FOUND = 13
 #: Models that deviate from the idealised one: the starts already followed to the exact model in
 #: this pose and what became of them (see :func:`_tried`), MEMO_SIZE of them (a ring, two per
 #: 4 x 4 entry of the stack from index _MEMO on; their count in the entry _MEMO_N).
@@ -318,7 +340,7 @@ SCAN_MEMO = 16
 SCAN_MEMO_TOL = 1e-9
 _SCAN_HEAD = 5  # j, v0, v1, m, closed; then per grid point its six joints, r and |e|
 _SCAN_SLOT = _SCAN_HEAD + 8 * (REDUCED_GRID + 1)
-_MEMO = 7
+_MEMO = 9
 _MEMO_N = _MEMO + MEMO_SIZE // 2
 _NMATS = _MEMO_N + 1
 _W, WORK_SIZE = _offsets(
@@ -443,7 +465,7 @@ def _straight_damped(qq, Td, K, hint, has_hint, mats):
         # (the polish left the straight wrist for a shadow beside it: hold the wrist instead)
         qq[0], qq[1], qq[2], qq[3], qq[5] = q1, q2, q3, q4_snap, q7
         qq[4] = user_angle(4, 0.0, K)
-        if not polish(qq, Td, K, 8, True, 0, 0.0, 4):  # (q5 and q7 held)
+        if not polish(qq, Td, K, 8, True, 0, 0.0, 0b001111):  # (q5 and q7 held)
             return False
     qq[4] = user_angle(4, 0.0, K)
     T = mats[_T]
@@ -475,10 +497,30 @@ def _add(q, out, count, Td, K, mats):
     nearly singular arm and wrist at once) exact solutions come as clusters of shadows wider
     than DUP_TOL, while two distinct solutions have an inexact pose between them. An exactly
     straight ``q`` takes the place of a nearly straight solution it is one with, and the other
-    nearly straight shadows of its circle go (see :func:`_same_straight`). A new
-    solution when ``out`` is full raises RuntimeError (never a silent drop)."""
+    nearly straight shadows of its circle go (see :func:`_same_straight`). On the shoulder set
+    a solution with axis 4 on axis 1 is first turned to its continuum's q1 (:func:`_axis4_turn`)
+    and the continuum's shadows go (:func:`_drop_continuum_shadows`); a shadow of a continuum
+    found is not added (:func:`_continuum_shadow`). A new solution when ``out`` is full raises
+    RuntimeError (never a silent drop)."""
     for i in range(6):
         q[i] = wrap(q[i])
+    sgn = 0.0
+    shoulder = _on_shoulder_set(q, K)
+    if shoulder:
+        sgn = _axis4_turn(q, Td, K, mats)
+        if sgn == 0.0 and _continuum_shadow(q, out, count, Td, K, mats):
+            return count
+        if sgn != 0.0:
+            mats[_CW].reshape(16)[_CW_FOUND] = 1.0
+    count = _insert(q, out, count, Td, K, mats, shoulder)
+    if sgn != 0.0:
+        return _drop_continuum_shadows(out, count, q, sgn, Td, K, mats)
+    return count
+
+
+@njit
+def _insert(q, out, count, Td, K, mats, shoulder):
+    """:func:`_add`'s duplicate rules and the append (``shoulder``: ``q`` is on the shoulder set)."""
     for k in range(count):
         far = _far(out[k], q)
         if far <= DUP_TOL or _same_straight(out[k], q, K):
@@ -492,12 +534,150 @@ def _add(q, out, count, Td, K, mats):
             mid = out[count] if count < out.shape[0] else mats[_WR].reshape(16)[:6]
             if _joined(out[k], q, mid, Td, K, mats):
                 return count
+        if (shoulder and far < CONTINUUM_WINDOW and mats[_CW].reshape(16)[_CW_FOUND] != 0.0
+                and _on_shoulder_set(out[k], K) and _walked(out[k], q, Td, K, mats)):
+            return count  # (beside a continuum: see CONTINUUM_WINDOW)
     if count == out.shape[0]:
         raise RuntimeError("ik7r: more distinct solutions than the output holds (MAX_SOLUTIONS); "
                            "none is dropped silently: please report the pose")
     for i in range(6):
         out[count, i] = q[i]
     return count + 1
+
+
+@njit
+def _turned(q, q1, sgn, qq):
+    """``qq``: ``q`` turned about axis 1 to joint 1 at ``q1``, joint 4 by ``sgn`` (+-1) times as
+    much (the other way round when axis 4 points along axis 1 against it)."""
+    d = wrap(q1 - q[0])
+    for i in range(6):
+        qq[i] = q[i]
+    qq[0] = q1
+    qq[3] = wrap(q[3] + sgn * d)
+
+
+@njit
+def _exact(q, Td, K, mats):
+    """Whether ``q`` meets the pose ``Td`` to the robot's tolerances (a NaN does not)."""
+    T = mats[_T]
+    fk_user(q, K, T)
+    dp, dr = residual(T, Td)
+    return dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]
+
+
+@njit
+def _axis4_turn(q, Td, K, mats):
+    """Where axis 4 of the exact solution ``q`` (wrapped) lies on axis 1, turn it in place to
+    the continuum's joint 1 (the seed's q1, else 0; see :func:`_add`) and return the sign of the
+    turn of joint 4 (+-1); else leave it and return 0. The turn is checked on the forward
+    kinematics at its end and half way (:func:`_turn_onto`): a turn ``d`` about two axes ``e``
+    apart moves the tool by about ``2 e sin(d / 2)``, which grows with ``abs(d)`` up to half a
+    turn, so its end bounds the whole of it."""
+    w = mats[_CW].reshape(16)
+    ref = w[_CW_REF]
+    to = ref if q[0] != ref else wrap(ref + 0.5 * math.pi)  # (on it already: a quarter turn tells)
+    qq = w[:6]
+    for sgn in (1.0, -1.0):
+        if _turn_onto(q, q[0] + 0.5 * wrap(to - q[0]), sgn, qq, Td, K, mats) and _turn_onto(
+                q, to, sgn, qq, Td, K, mats):
+            if to == ref:
+                for i in range(6):
+                    q[i] = qq[i]
+            return sgn
+    return 0.0
+
+
+@njit
+def _turn_onto(q, q1, sgn, qq, Td, K, mats):
+    """``qq``: ``q`` turned about axis 1 to joint 1 at ``q1`` (:func:`_turned`); whether it is
+    exact. A turned point that misses the pose by no more than TURN_SLACK times the tolerances is
+    polished with joint 1 held: the solver's own points on the continuum place axis 4 on axis 1
+    only to about 1e-12 rad (the FK is flat there), which a half turn makes a miss of a few
+    times the paper robot's 1e-9 mm."""
+    _turned(q, q1, sgn, qq)
+    T = mats[_T]
+    fk_user(qq, K, T)
+    dp, dr = residual(T, Td)
+    if dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]:
+        return True
+    if not (dp <= TURN_SLACK * K[L.POS_TOL] and dr <= TURN_SLACK * K[L.ROT_TOL]):
+        return False
+    return polish(qq, Td, K, 8, True, 0, 0.0, ALL_JOINTS ^ 1)
+
+
+@njit
+def _continuum_shadow(q, out, count, Td, K, mats):
+    """Whether the exact ``q`` (on the shoulder set, not itself turnable) is a shadow of an axis
+    4 continuum in ``out[:count]`` (:func:`_beside`)."""
+    ref = mats[_CW].reshape(16)[_CW_REF]
+    for k in range(count):
+        if out[k, 0] == ref and _on_shoulder_set(out[k], K):
+            for sgn in (1.0, -1.0):
+                if _beside(out[k], sgn, q, Td, K, mats):
+                    return True
+    return False
+
+
+@njit
+def _drop_continuum_shadows(out, count, m, sgn, Td, K, mats):
+    """Drop from ``out[:count]`` the shadows (:func:`_beside`) of the continuum of axis 4 on
+    axis 1 through ``m`` (at the continuum's q1, joint 4 turning by ``sgn``); the continua's own
+    rows (at that q1) stay. Returns the new count."""
+    ref = mats[_CW].reshape(16)[_CW_REF]
+    keep = 0
+    for s in range(count):
+        if out[s, 0] == ref or not (_on_shoulder_set(out[s], K) and _beside(m, sgn, out[s], Td, K, mats)):
+            if keep != s:
+                for i in range(6):
+                    out[keep, i] = out[s, i]
+            keep += 1
+    return keep
+
+
+@njit
+def _beside(m, sgn, x, Td, K, mats):
+    """Whether the exact ``x`` is a shadow of the continuum of axis 4 on axis 1 through ``m``
+    (joint 4 turning by ``sgn``): within CONTINUUM_WINDOW of the continuum's point at its own q1
+    and joined to it by an exact walk (:func:`_walked`)."""
+    c = mats[_CW].reshape(16)[6:12]
+    _turned(m, x[0], sgn, c)
+    return (_far(c, x) < CONTINUUM_WINDOW and _turn_onto(m, x[0], sgn, c, Td, K, mats)
+            and (_far(c, x) <= DUP_TOL or _walked(c, x, Td, K, mats)))
+
+
+@njit
+def _walked(a, b, Td, K, mats):
+    """Whether a walk from the exact ``a`` to the exact ``b`` stays exact: its points WALK_STEP
+    apart on the segment, each that misses the pose polished onto it by damped steps with the
+    joint of the largest difference held (the walk's parameter), each within twice the segment's
+    step (every joint) of the walk's point before it. Where the FK is flat an exact valley may
+    curve away from the straight segment (:func:`_joined`) between two of its points; a walk
+    that jumps is not one valley."""
+    w = mats[_WALK].reshape(16)
+    x = w[:6]
+    prev = w[6:12]
+    far = 0.0
+    j = 0
+    for i in range(6):
+        d = abs(wrap(b[i] - a[i]))
+        if d > far:
+            far = d
+            j = i
+    n = int(math.ceil(far / WALK_STEP))
+    for i in range(6):
+        prev[i] = a[i]
+    for k in range(1, n + 1):
+        f = k / n
+        for i in range(6):
+            x[i] = a[i] + f * wrap(b[i] - a[i])
+        if k < n and not _exact(x, Td, K, mats) and not polish(
+                x, Td, K, 8, True, 0, 0.0, ALL_JOINTS ^ (1 << j)):
+            return False
+        for i in range(6):
+            if abs(wrap(x[i] - prev[i])) > 2.0 * far / n:
+                return False
+            prev[i] = x[i]
+    return True
 
 
 @njit
@@ -568,13 +748,10 @@ def _drop_straight_shadows(out, count, k, K):
 def _joined(q0, q1, mid, Td, K, mats):
     """Whether the segment from ``q0`` to ``q1`` is exact all along (checked at a quarter, half
     and three quarters of the way; ``mid`` (6,): scratch)."""
-    T = mats[_T]
     for f in (0.5, 0.25, 0.75):
         for i in range(6):
             mid[i] = q0[i] + f * wrap(q1[i] - q0[i])
-        fk_user(mid, K, T)
-        dp, dr = residual(T, Td)
-        if not (dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]):  # (a NaN is not exact)
+        if not _exact(mid, Td, K, mats):
             return False
     return True
 
@@ -2056,6 +2233,8 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
     ws[_NRSCAN] = 0.0
     ws[_NSDIP] = 0.0
     mats[_MEMO_N, 0, 0] = 0.0
+    mats[_CW].reshape(16)[_CW_REF] = wrap(hint[0]) if has_hint else 0.0
+    mats[_CW].reshape(16)[_CW_FOUND] = 0.0
     nr = _roots(0, p, a, K, Bm, bnorm, roots, ws)
     count = 0
     if nr < 0:

@@ -16,6 +16,8 @@ from .jit import njit
 
 #: Largest joint step (rad) of one Newton iteration of the polish.
 MAX_POLISH_STEP = 0.1
+#: :func:`polish`'s mask of moving joints when every joint moves (bit ``i``: joint ``i + 1``).
+ALL_JOINTS = 0b111111
 
 
 @njit
@@ -292,7 +294,7 @@ def solve6(A, b, x):
 
 
 @njit(allocates=True)
-def polish(q, Td, K, max_iter, damped=False, patience=0, settle=0.0, free=6):
+def polish(q, Td, K, max_iter, damped=False, patience=0, settle=0.0, moving=ALL_JOINTS):
     """Newton-Raphson on the full forward kinematics from ``q`` (modified in place).
 
     Returns True when the residual is within the robot's tolerances (``POS_TOL`` in the
@@ -306,11 +308,12 @@ def polish(q, Td, K, max_iter, damped=False, patience=0, settle=0.0, free=6):
     solution when they counted). ``settle`` > 0: stop once a full Newton step is below it (rad),
     returning False (not verified): for the intermediate models of a homotopy, where Newton's
     quadratic convergence leaves an error of the order of that step squared and the forward
-    kinematics that would verify it is not needed. ``free`` < 6: only the first ``free`` joints
-    move (the others are held), by damped least-squares steps (:func:`_damped_step`).
+    kinematics that would verify it is not needed. ``moving``: a bit mask of the joints that
+    move (bit ``i`` for joint ``i + 1``); with any joint held the others move by damped
+    least-squares steps (:func:`_damped_step`).
     """
     return polish_into(q, Td, K, max_iter, np.empty((4, 4)), np.empty((6, 6)), np.empty(6), np.empty(6),
-                       np.empty((7, 6)), damped, patience, settle, free)
+                       np.empty((7, 6)), damped, patience, settle, moving)
 
 
 #: See :func:`polish`: the error must fall below this fraction of itself every ``patience`` steps.
@@ -323,15 +326,15 @@ POLISH_DAMPING = 1e-16
 
 
 @njit
-def _damped_step(q, Td, K, T, J, e, dq, ZO, free=6):
+def _damped_step(q, Td, K, T, J, e, dq, ZO, moving=ALL_JOINTS):
     """The step ``dq`` of :func:`polish_into` where the Jacobian at ``q`` is singular (a singular
     arm and wrist at once: the shoulder singular set with a nearly straight wrist, or axis 7 on
     axis 1, where the pose leaves joints free): damped least squares ``(Jw^T Jw + lam I) dq =
     Jw^T ew`` with the position rows over the robot's size. It moves least along the free or
     nearly free directions (a joint the pose leaves free keeps its value, which came from the
     seed). Recomputes ``J`` and ``e`` (:func:`solve6` destroyed them); ``ZO`` holds the normal
-    equations. ``free``: only the first ``free`` joints take a step (``dq`` is 0 for the rest).
-    Returns False when even they are singular."""
+    equations. ``moving``: the bit mask of the joints that take a step (``dq`` is 0 for the
+    rest). Returns False when even they are singular."""
     fk_jacobian(q, K, T, J, ZO)
     pose_error(T, Td, e, ZO[:3, :3])
     w = 1.0 / K[L.SCALE] if K[L.SCALE] > 0.0 else 1.0
@@ -340,25 +343,31 @@ def _damped_step(q, Td, K, T, J, e, dq, ZO, free=6):
         for c in range(6):
             J[r, c] *= w
     tr = 0.0
+    n = 0
     for i in range(6):
+        mi = (moving >> i) & 1 == 1
         g = 0.0
         for r in range(6):
             g += J[r, i] * e[r]
-        ZO[6, i] = g if i < free else 0.0
+        ZO[6, i] = g if mi else 0.0
         for j in range(6):
             s = 0.0
             for r in range(6):
                 s += J[r, i] * J[r, j]
-            ZO[i, j] = s if i < free and j < free else (1.0 if i == j else 0.0)
-        tr += ZO[i, i] if i < free else 0.0
-    lam = POLISH_DAMPING * tr / free
-    for i in range(free):
-        ZO[i, i] += lam
+            ZO[i, j] = s if mi and (moving >> j) & 1 == 1 else (1.0 if i == j else 0.0)
+        if mi:
+            tr += ZO[i, i]
+            n += 1
+    lam = POLISH_DAMPING * tr / max(n, 1)
+    for i in range(6):
+        if (moving >> i) & 1 == 1:
+            ZO[i, i] += lam
     return solve6(ZO[:6], ZO[6], dq) > 0.0
 
 
 @njit
-def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO, damped=False, patience=0, settle=0.0, free=6):
+def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO, damped=False, patience=0, settle=0.0,
+                moving=ALL_JOINTS):
     """:func:`polish` with caller-provided work arrays ``T`` (4, 4), ``J`` (6, 6), ``e``, ``dq``
     (6,) and ``ZO`` (7, 6)."""
     tol_p = K[L.POS_TOL]
@@ -379,8 +388,8 @@ def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO, damped=False, patience=0, s
             mark = err
             travelled = False
         pose_error(T, Td, e, ZO[:3, :3])  # (ZO is free until the next fk_jacobian)
-        if free < 6:
-            if not _damped_step(q, Td, K, T, J, e, dq, ZO, free):
+        if moving != ALL_JOINTS:
+            if not _damped_step(q, Td, K, T, J, e, dq, ZO, moving):
                 return False
         elif solve6(J, e, dq) < 1e-14 and not (damped and _damped_step(q, Td, K, T, J, e, dq, ZO)):
             return False

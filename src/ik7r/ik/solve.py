@@ -166,7 +166,7 @@ def ik_all(robot: Robot, T: ArrayLike, *, within_limits: bool = False,
         sized to hold them all; more than :data:`MAX_WITHIN_LIMITS_ROWS` raise ValueError.
     seed : array_like, shape (6,), optional
         Chooses the free joints at singular poses (q4 / q7 split at a straight wrist, q1 when
-        axis 7 lies on axis 1); default q4 = 0, q1 = 0. Periodic: joints beyond
+        axis 7 or axis 4 lies on axis 1); default q4 = 0, q1 = 0. Periodic: joints beyond
         ``ik7r.robot.family.MAX_JOINT_ANGLE`` are reduced modulo 2 pi first.
 
     Returns
@@ -234,7 +234,8 @@ def ik(robot: Robot, T: ArrayLike, config: Config = 1, *, seed: ArrayLike | None
     seed : array_like, shape (6,), optional
         When several solutions share the indicators (poses with 12 or 16 solutions) the one
         nearest ``seed`` is returned; without a seed, the one nearest the zero posture. The seed
-        also splits q4 / q7 at a straight wrist. Periodic: joints beyond
+        also splits q4 / q7 at a straight wrist, and gives q1 where axis 7 or axis 4 lies on
+        axis 1 (the pose leaves it free). Periodic: joints beyond
         ``ik7r.robot.family.MAX_JOINT_ANGLE`` are reduced modulo 2 pi first.
     within_limits : bool
         Only solutions inside the joint limits (multi-turn equivalents included); the one
