@@ -468,15 +468,12 @@ def _straight_damped(qq, Td, K, hint, has_hint, mats):
         if not polish(qq, Td, K, 8, True, 0, 0.0, 0b001111):  # (q5 and q7 held)
             return False
     qq[4] = user_angle(4, 0.0, K)
-    T = mats[_T]
     d1 = wrap(q1 - qq[0])
     q4 = qq[3]
     for sgn in (1.0, -1.0, 0.0):  # (0: q1 stays where the polish left it)
         qq[0] = q1 if sgn != 0.0 else q1 - d1
         qq[3] = q4 + sgn * d1
-        fk_user(qq, K, T)
-        dp, dr = residual(T, Td)
-        if dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]:
+        if _exact(qq, Td, K, mats):
             break
     _split_sum(qq, K[L.SIGN + 3] * qq[3] + K[L.SIGN + 6] * qq[5], K, hint, has_hint)
     return True
