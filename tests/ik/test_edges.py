@@ -381,6 +381,62 @@ def test_axis4_on_axis1_is_one_continuum_at_the_seeds_q1(paper, which):
         assert np.abs(wrap(s - q)).max() < 1e-7
 
 
+def _tilted_solutions(robot, q, start=1e-3, ratio=0.8):
+    """The isolated solutions with the upper arm tilted of the vertical-arm pose of ``q`` (the
+    paper robot's q2 = 90, q3 = -90 deg; the bend at ``q[4]``): reference_ik's solutions off the
+    vertical by more than 1e-2 rad at the bend ``start`` (well conditioned there), continued down
+    to the bend of ``q`` in steps of ``ratio``, the tilt and the bend scaled with it and each
+    polished by reference_ik's Levenberg-Marquardt (no ik7r code). They tilt by 141 times the
+    bend and bend by 128 times it (checked to 60 digits by Newton's method in mpmath)."""
+    from reference_ik import Chain, _polish, reference_ik
+
+    ch = Chain(robot)
+    src = np.array(q, dtype=float)
+    src[4] = math.copysign(start, q[4])
+    X = reference_ik(robot, robot.fk(src))
+    X = X[np.abs(wrap(X[:, 1] - np.pi / 2)) > 1e-2]
+    bend = start
+    while bend > abs(q[4]):
+        step = max(abs(q[4]), bend * ratio)
+        src[4] = math.copysign(step, q[4])
+        T = robot.fk(src)
+        f = step / bend
+        Y = X.copy()
+        Y[:, 1] = np.pi / 2 + f * wrap(X[:, 1] - np.pi / 2)
+        Y[:, 2] = -np.pi / 2 + f * wrap(X[:, 2] + np.pi / 2)
+        Y[:, 4] = f * X[:, 4]
+        X = np.array([_polish(ch, T, y) for y in Y])
+        bend = step
+    return X
+
+
+def test_axis4_on_axis1_tilted_solutions_with_a_nearly_straight_wrist(paper):
+    """Beside the continuum of axis 4 on axis 1 (the arm straight up, elbow stretched) with the
+    wrist bent by 5e-6 .. 1e-4 rad: the four isolated solutions with the upper arm tilted (by
+    141 times the bend, 7e-4 .. 1.4e-2 rad; their virtual wrist centre on axis 1, so each lies
+    in a valley flat in q1 and q7, up to 1e-2 rad wide) are among the answers, each found by
+    continuation from reference_ik's solutions at a bend of 1e-3. The code before lost them in 8
+    of 12 poses: a walk shorter than WALK_STEP checked nothing and joined them to the continuum
+    (1.6 rad from any answer at a bend of 1e-5), and where two answers came from either side of
+    a valley 8e-3 rad apart neither was joined to the solution by a segment."""
+    from reference_ik import exact
+
+    rng = np.random.default_rng(1206)
+    misses = []
+    for _ in range(12):
+        bend = rng.choice([-1.0, 1.0]) * 10.0 ** rng.uniform(math.log10(5e-6), -4)
+        q = np.r_[rng.uniform(-np.pi, np.pi), np.pi / 2, -np.pi / 2, rng.uniform(-np.pi, np.pi), bend,
+                  rng.uniform(-np.pi, np.pi)]
+        T = paper.fk(q)
+        X = _tilted_solutions(paper, q)
+        assert len(X) == 4 and exact(paper, X, T)[2].all()
+        assert np.all(np.abs(wrap(X[:, 1] - np.pi / 2)) > 100 * abs(q[4]))
+        sols = paper.ik_all(T)
+        assert_exact(paper, sols, T)
+        misses += [(q.tolist(), x.tolist()) for x in X if not source_found(paper, sols, x, T)]
+    assert misses == []
+
+
 @pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
     "open (issue 12): axis 4 on axis 1 with the wrist nearly straight (abs(q5) < 1e-4): beside "
     "the continuum the FK is flat in the arm, in q1 and in the split at once, and the shoulder "

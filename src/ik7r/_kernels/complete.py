@@ -103,6 +103,14 @@ STRAIGHT_EXACT = 1e-9
 #: Two exact solutions closer than this (rad, every joint) are one when the segment between
 #: them is exact too (see :func:`_add`).
 MERGE_WINDOW = 1e-2
+#: A solution on the shoulder set (its virtual wrist centre on axis 1) lies in a valley where
+#: the FK is flat in q1 (with the wrist nearly straight, also in q7): the polish stops at the
+#: first point within the tolerances, at the edge of a band up to 1e-2 rad wide, and one
+#: solution comes twice, once from each side, a straight segment apart that leaves the valley.
+#: Such answers are polished on toward FLOOR times the tolerances (at most FLOOR_ITERS Newton
+#: steps; see :func:`_floor_shoulder`), which takes them to the solution's root within DUP_TOL.
+FLOOR = 1e-3
+FLOOR_ITERS = 4
 #: Axis 4 on axis 1 (the arm stretched along it: the paper robot's q2 = 90, q3 = -90 deg) turns
 #: joints 1 and 4 together without moving the tool: an exact solution there is a continuum, kept
 #: once, at the seed's q1 (else 0; see :func:`_add`). An exact point within CONTINUUM_WINDOW (rad,
@@ -115,6 +123,7 @@ MERGE_WINDOW = 1e-2
 #: that the straight segment of :func:`_joined` keeps apart).
 CONTINUUM_WINDOW = 3e-2
 WALK_STEP = 2e-3
+WALK_MIN = 4  # (points at least: a walk shorter than WALK_STEP is checked at its quarters too)
 #: ... and a point of the continuum turned to another joint 1 that misses the pose by no more
 #: than this many times the tolerances is polished onto it (see :func:`_turn_onto`).
 TURN_SLACK = 100.0
@@ -312,6 +321,7 @@ _T07, _R07, _M, _Q, _T, _WR, _PSI, _CW, _WALK = range(9)
 #: before it (:func:`_walked`).
 _CW_REF = 12
 _CW_FOUND = 13
+_CW_SHOULDER = 14  # (1 once a solution on the shoulder set was added: see :func:`_floor_shoulder`)
 #: Models that deviate from the idealised one: the starts already followed to the exact model in
 #: this pose and what became of them (see :func:`_tried`), MEMO_SIZE of them (a ring, two per
 #: 4 x 4 entry of the stack from index _MEMO on; their count in the entry _MEMO_N).
@@ -504,6 +514,7 @@ def _add(q, out, count, Td, K, mats):
     sgn = 0.0
     shoulder = _on_shoulder_set(q, K)
     if shoulder:
+        mats[_CW].reshape(16)[_CW_SHOULDER] = 1.0
         sgn = _axis4_turn(q, Td, K, mats)
         if sgn == 0.0 and _continuum_shadow(q, out, count, Td, K, mats):
             return count
@@ -540,6 +551,17 @@ def _insert(q, out, count, Td, K, mats, shoulder):
     for i in range(6):
         out[count, i] = q[i]
     return count + 1
+
+
+@njit
+def _floored(q, x, Td, K, mats):
+    """``x``: the exact ``q`` polished by at most FLOOR_ITERS Newton steps toward FLOOR times the
+    tolerances (its floor; the polish may stop short of that, at the FK's rounding); whether it
+    is still exact and within MERGE_WINDOW of ``q``."""
+    for i in range(6):
+        x[i] = q[i]
+    polish(x, Td, K, FLOOR_ITERS, True, 0, 0.0, ALL_JOINTS, FLOOR)
+    return _exact(x, Td, K, mats) and _far(x, q) < MERGE_WINDOW
 
 
 @njit
@@ -645,9 +667,10 @@ def _beside(m, sgn, x, Td, K, mats):
 @njit
 def _walked(a, b, Td, K, mats):
     """Whether a walk from the exact ``a`` to the exact ``b`` stays exact: its points WALK_STEP
-    apart on the segment, each that misses the pose polished onto it by damped steps with the
-    joint of the largest difference held (the walk's parameter), each within twice the segment's
-    step (every joint) of the walk's point before it. Where the FK is flat an exact valley may
+    apart on the segment (WALK_MIN of them at least: a shorter walk would check nothing), each
+    that misses the pose polished onto it by damped steps with the joint of the largest
+    difference held (the walk's parameter), each within twice the segment's step (every joint)
+    of the walk's point before it. Where the FK is flat an exact valley may
     curve away from the straight segment (:func:`_joined`) between two of its points; a walk
     that jumps is not one valley."""
     w = mats[_WALK].reshape(16)
@@ -660,7 +683,7 @@ def _walked(a, b, Td, K, mats):
         if d > far:
             far = d
             j = i
-    n = int(math.ceil(far / WALK_STEP))
+    n = max(WALK_MIN, int(math.ceil(far / WALK_STEP)))
     for i in range(6):
         prev[i] = a[i]
     for k in range(1, n + 1):
@@ -2232,6 +2255,7 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
     mats[_MEMO_N, 0, 0] = 0.0
     mats[_CW].reshape(16)[_CW_REF] = wrap(hint[0]) if has_hint else 0.0
     mats[_CW].reshape(16)[_CW_FOUND] = 0.0
+    mats[_CW].reshape(16)[_CW_SHOULDER] = 0.0
     nr = _roots(0, p, a, K, Bm, bnorm, roots, ws)
     count = 0
     if nr < 0:
@@ -2286,7 +2310,35 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
         count = _other_wrists(R07, Td, K, out, count, ws, mats)
     if folded:
         count = _merge_folded(out, count)
+    if mats[_CW].reshape(16)[_CW_SHOULDER] != 0.0:
+        count = _floor_shoulder(out, count, Td, K, mats)
     return count
+
+
+@njit
+def _floor_shoulder(out, count, Td, K, mats):
+    """Polish the answers on the shoulder set to their floor (:func:`_floored`; FLOOR), each
+    in place when that stays exact, and drop those that come within DUP_TOL of one before them:
+    two points of one solution's valley, from either side. A continuum's point (at its q1, see
+    :func:`_axis4_turn`) stays where it is."""
+    x = mats[_WALK].reshape(16)[:6]
+    ref = mats[_CW].reshape(16)[_CW_REF]
+    keep = 0
+    for s in range(count):
+        if out[s, 0] != ref and _on_shoulder_set(out[s], K) and _floored(out[s], x, Td, K, mats):
+            for i in range(6):
+                out[s, i] = wrap(x[i])
+        one = False
+        for e in range(keep):
+            if _far(out[e], out[s]) <= DUP_TOL:
+                one = True
+                break
+        if not one:
+            if keep != s:
+                for i in range(6):
+                    out[keep, i] = out[s, i]
+            keep += 1
+    return keep
 
 
 @njit

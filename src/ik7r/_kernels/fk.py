@@ -294,7 +294,7 @@ def solve6(A, b, x):
 
 
 @njit(allocates=True)
-def polish(q, Td, K, max_iter, damped=False, patience=0, settle=0.0, moving=ALL_JOINTS):
+def polish(q, Td, K, max_iter, damped=False, patience=0, settle=0.0, moving=ALL_JOINTS, floor=1.0):
     """Newton-Raphson on the full forward kinematics from ``q`` (modified in place).
 
     Returns True when the residual is within the robot's tolerances (``POS_TOL`` in the
@@ -310,10 +310,12 @@ def polish(q, Td, K, max_iter, damped=False, patience=0, settle=0.0, moving=ALL_
     quadratic convergence leaves an error of the order of that step squared and the forward
     kinematics that would verify it is not needed. ``moving``: a bit mask of the joints that
     move (bit ``i`` for joint ``i + 1``); with any joint held the others move by damped
-    least-squares steps (:func:`_damped_step`).
+    least-squares steps (:func:`_damped_step`). ``floor`` < 1: polish on to that fraction of
+    the tolerances (where the FK is flat the first point within them is at the edge of a wide
+    band; see :func:`ik7r._kernels.complete._floored`).
     """
     return polish_into(q, Td, K, max_iter, np.empty((4, 4)), np.empty((6, 6)), np.empty(6), np.empty(6),
-                       np.empty((7, 6)), damped, patience, settle, moving)
+                       np.empty((7, 6)), damped, patience, settle, moving, floor)
 
 
 #: See :func:`polish`: the error must fall below this fraction of itself every ``patience`` steps.
@@ -367,11 +369,11 @@ def _damped_step(q, Td, K, T, J, e, dq, ZO, moving=ALL_JOINTS):
 
 @njit
 def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO, damped=False, patience=0, settle=0.0,
-                moving=ALL_JOINTS):
+                moving=ALL_JOINTS, floor=1.0):
     """:func:`polish` with caller-provided work arrays ``T`` (4, 4), ``J`` (6, 6), ``e``, ``dq``
     (6,) and ``ZO`` (7, 6)."""
-    tol_p = K[L.POS_TOL]
-    tol_r = K[L.ROT_TOL]
+    tol_p = floor * K[L.POS_TOL]
+    tol_r = floor * K[L.ROT_TOL]
     mark = math.inf
     travelled = False  # a step since the last mark was clamped to MAX_POLISH_STEP
     for it in range(max_iter + 1):
