@@ -2320,12 +2320,15 @@ def _floor_shoulder(out, count, Td, K, mats):
     """Polish the answers on the shoulder set to their floor (:func:`_floored`; FLOOR), each
     in place when that stays exact, and drop those that come within DUP_TOL of one before them:
     two points of one solution's valley, from either side. A continuum's point (at its q1, see
-    :func:`_axis4_turn`) stays where it is."""
+    :func:`_axis4_turn`) and an exactly straight or fully bent wrist (set by their rules: the
+    split of :func:`_split_sum`, theta5 = pi) stay where they are."""
     x = mats[_WALK].reshape(16)[:6]
     ref = mats[_CW].reshape(16)[_CW_REF]
     keep = 0
     for s in range(count):
-        if out[s, 0] != ref and _on_shoulder_set(out[s], K) and _floored(out[s], x, Td, K, mats):
+        b = _bend(out[s], K)
+        if (out[s, 0] != ref and STRAIGHT_EXACT < b < math.pi - STRAIGHT_EXACT and _on_shoulder_set(out[s], K)
+                and _floored(out[s], x, Td, K, mats)):
             for i in range(6):
                 out[s, i] = wrap(x[i])
         one = False
