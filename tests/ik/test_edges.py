@@ -437,6 +437,44 @@ def test_axis4_on_axis1_tilted_solutions_with_a_nearly_straight_wrist(paper):
     assert misses == []
 
 
+def test_the_continuums_walk_does_not_step_over_a_ridge(paper):
+    """At a bend of 2e-6 a tilted solution (:func:`_tilted_solutions`) lies within 1e-2 rad
+    (every joint) of the continuum's point at its q1, and they are two solutions: along the path
+    of least residual between them (q2 stepped, the other joints by reference_ik's
+    Levenberg-Marquardt) the pose is missed by more than twice the tolerance (5.5 times). The
+    walk that decides what is a shadow of the continuum (``_walked`` in complete.py) must not
+    join them. It did: its points stayed on the continuum and its last step moved the tilt by
+    all of its 2.8e-4 rad at once (a step could move any joint by twice the largest joint's
+    share); now a step may move each joint by twice its own share (plus DUP_TOL)."""
+    from reference_ik import Chain, _residual_and_jacobian, exact
+    from scipy.optimize import least_squares
+
+    from ik7r._kernels import complete
+
+    rng = np.random.default_rng(1205)
+    q = np.r_[rng.uniform(-np.pi, np.pi), np.pi / 2, -np.pi / 2, rng.uniform(-np.pi, np.pi), 0.0,
+              rng.uniform(-np.pi, np.pi)]
+    q[4] = rng.choice([-1.0, 1.0]) * 2e-6
+    T = paper.fk(q)
+    X = _tilted_solutions(paper, q)
+    x = X[np.sign(X[:, 4]) == np.sign(q[4])][0]
+    c = _turned(q, x[0], _turn_sign(paper, T, q))
+    assert exact(paper, np.array([c, x]), T)[2].all()
+    assert np.abs(wrap(x - c)).max() < 1e-2
+    ch = Chain(paper)
+    free = [0, 2, 3, 4, 5]
+    worst, prev = 0.0, c.copy()
+    for f in np.linspace(0.0, 1.0, 41)[1:-1]:
+        y = c + f * wrap(x - c)
+        fit = least_squares(lambda z, y=y: _residual_and_jacobian(ch, T, np.r_[z[0], y[1], z[1:]])[0],
+                            prev[free], method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)
+        prev = np.r_[fit.x[0], y[1], fit.x[1:]]
+        worst = max(worst, exact(paper, prev[None], T)[0][0] / ch.tol)
+    assert worst > 2.0
+    mats = np.zeros((complete._NMATS, 4, 4))
+    assert not complete._walked(c, x, T, paper.kernel_params, mats)
+
+
 @pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
     "open (issue 12): axis 4 on axis 1 with the wrist nearly straight (abs(q5) < 1e-4): beside "
     "the continuum the FK is flat in the arm, in q1 and in the split at once, and the shoulder "

@@ -124,6 +124,7 @@ FLOOR_ITERS = 4
 CONTINUUM_WINDOW = 3e-2
 WALK_STEP = 2e-3
 WALK_MIN = 4  # (points at least: a walk shorter than WALK_STEP is checked at its quarters too)
+WALK_SLACK = DUP_TOL  # (how much farther than twice its share a walk's step may move a joint)
 #: ... and a point of the continuum turned to another joint 1 that misses the pose by no more
 #: than this many times the tolerances is polished onto it (see :func:`_turn_onto`).
 TURN_SLACK = 100.0
@@ -669,8 +670,9 @@ def _walked(a, b, Td, K, mats):
     """Whether a walk from the exact ``a`` to the exact ``b`` stays exact: its points WALK_STEP
     apart on the segment (WALK_MIN of them at least: a shorter walk would check nothing), each
     that misses the pose polished onto it by damped steps with the joint of the largest
-    difference held (the walk's parameter), each within twice the segment's step (every joint)
-    of the walk's point before it. Where the FK is flat an exact valley may
+    difference held (the walk's parameter), no joint moved from the walk's point before it by
+    more than twice its own share of the difference (plus WALK_SLACK): a walk that keeps to one
+    solution and jumps to the other at its last step is no walk. Where the FK is flat an exact valley may
     curve away from the straight segment (:func:`_joined`) between two of its points; a walk
     that jumps is not one valley."""
     w = mats[_WALK].reshape(16)
@@ -694,7 +696,7 @@ def _walked(a, b, Td, K, mats):
                 x, Td, K, 8, True, 0, 0.0, ALL_JOINTS ^ (1 << j)):
             return False
         for i in range(6):
-            if abs(wrap(x[i] - prev[i])) > 2.0 * far / n:
+            if abs(wrap(x[i] - prev[i])) > 2.0 * abs(wrap(b[i] - a[i])) / n + WALK_SLACK:
                 return False
             prev[i] = x[i]
     return True
