@@ -647,10 +647,7 @@ def _drop_continuum_shadows(out, count, m, sgn, Td, K, mats):
     keep = 0
     for s in range(count):
         if out[s, 0] == ref or not (_on_shoulder_set(out[s], K) and _beside(m, sgn, out[s], Td, K, mats)):
-            if keep != s:
-                for i in range(6):
-                    out[keep, i] = out[s, i]
-            keep += 1
+            keep = _kept(out, keep, s)
     return keep
 
 
@@ -751,18 +748,25 @@ def _same_straight(q0, q1, K):
 
 
 @njit
+def _kept(out, keep, s):
+    """Keep row ``s`` of ``out`` as its row ``keep`` (the rows are compacted in order, ``keep``
+    <= ``s``); returns the next row to keep."""
+    if keep != s:
+        for i in range(6):
+            out[keep, i] = out[s, i]
+    return keep + 1
+
+
+@njit
 def _drop_straight_shadows(out, count, k, K):
     """Drop from ``out[:count]`` the rows other than ``k`` that are one solution with the exactly
     straight ``out[k]`` (:func:`_same_straight`); returns the new count."""
     keep = 0
     for s in range(count):
         if s == k or not _same_straight(out[k], out[s], K):
-            if keep != s:
-                for i in range(6):
-                    out[keep, i] = out[s, i]
             if s == k:
                 k = keep
-            keep += 1
+            keep = _kept(out, keep, s)
     return keep
 
 
@@ -2328,21 +2332,12 @@ def _floor_shoulder(out, count, Td, K, mats):
     ref = mats[_CW].reshape(16)[_CW_REF]
     keep = 0
     for s in range(count):
-        b = _bend(out[s], K)
-        if (out[s, 0] != ref and STRAIGHT_EXACT < b < math.pi - STRAIGHT_EXACT and _on_shoulder_set(out[s], K)
-                and _floored(out[s], x, Td, K, mats)):
+        if (out[s, 0] != ref and STRAIGHT_EXACT < _bend(out[s], K) < math.pi - STRAIGHT_EXACT
+                and _on_shoulder_set(out[s], K) and _floored(out[s], x, Td, K, mats)):
             for i in range(6):
                 out[s, i] = wrap(x[i])
-        one = False
-        for e in range(keep):
-            if _far(out[e], out[s]) <= DUP_TOL:
-                one = True
-                break
-        if not one:
-            if keep != s:
-                for i in range(6):
-                    out[keep, i] = out[s, i]
-            keep += 1
+        if not _known(out[s], out, keep, DUP_TOL):
+            keep = _kept(out, keep, s)
     return keep
 
 
@@ -2360,9 +2355,7 @@ def _merge_folded(out, count):
                         shadow = True
                         break
         if not shadow:
-            for j in range(6):
-                out[keep, j] = out[s, j]
-            keep += 1
+            keep = _kept(out, keep, s)
     return keep
 
 
