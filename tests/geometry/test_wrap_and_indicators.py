@@ -23,7 +23,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ik7r._kernels import JIT_ENABLED
-from ik7r._kernels import complete as _complete
+from ik7r._kernels import constants as _constants
 from ik7r._kernels import select as _select
 from ik7r.geometry import config_number, indicators, wrap_angle
 from ik7r.geometry.configs import arm_elbow_wrist, number_of
@@ -96,19 +96,19 @@ if JIT_ENABLED:
 
     @numba.njit(cache=False)
     def _compiled_wrap(x):  # the kernels' form: wrap compiled into a numba function, on a scalar
-        return _complete.wrap(x)
+        return _constants.wrap(x)
 
     @numba.njit(cache=False)
     def _compiled_remainder(x):
-        return _complete.remainder_2pi(x)
+        return _constants.remainder_2pi(x)
 
     @numba.njit(cache=False)
     def _compiled_rule(q1, q3, q5):
         a, e, w = _select.arm_elbow_wrist(q1, q3, q5)
         return a, e, w, _select.number_of(a, e, w)
 else:  # pragma: no cover - pure-Python kernels: the functions as they are
-    _compiled_wrap = _complete.wrap
-    _compiled_remainder = _complete.remainder_2pi
+    _compiled_wrap = _constants.wrap
+    _compiled_remainder = _constants.remainder_2pi
 
     def _compiled_rule(q1, q3, q5):
         a, e, w = _select.arm_elbow_wrist(q1, q3, q5)
@@ -116,7 +116,7 @@ else:  # pragma: no cover - pure-Python kernels: the functions as they are
 
 
 def test_the_kernels_use_the_one_wrap_and_rule():
-    assert _complete.wrap is wrap and _select.wrap is wrap and _complete.remainder_2pi is remainder_2pi
+    assert _constants.wrap is wrap and _select.wrap is wrap and _constants.remainder_2pi is remainder_2pi
     assert _select.arm_elbow_wrist is arm_elbow_wrist and _select.number_of is number_of
 
 
@@ -240,7 +240,7 @@ def test_matches_keeps_its_boundary_rule_on_top_of_the_one_rule(r):
 PURE = r"""
 import json, sys
 import numpy as np
-from ik7r._kernels import JIT_ENABLED, complete, select
+from ik7r._kernels import JIT_ENABLED, constants, select
 assert not JIT_ENABLED and "numba" not in sys.modules
 xs = json.loads(sys.argv[1])
 out = []
@@ -248,7 +248,7 @@ for x in xs:
     q = np.array([x, 0.0, x / 3, 0.0, -x, 0.0])
     seed = np.empty(6)
     select.reduced_seed(np.full(6, x), seed)
-    out.append([float(complete.wrap(x)).hex(), float(seed[0]).hex(), int(select.config_number(q)),
+    out.append([float(constants.wrap(x)).hex(), float(seed[0]).hex(), int(select.config_number(q)),
                 bool(select.matches(q, 1, 0, 1))])
 print(json.dumps(out))
 """

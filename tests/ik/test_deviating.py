@@ -277,7 +277,7 @@ def _near_shoulder_robot(name, irb):
 def test_near_shoulder_solutions_far_from_the_dips(irb, name, q):
     """Sources whose line of virtual centres passes within SHOULDER_EXACT_NEAR of the robot's size
     from axis 1 (1e-9 .. 1e-4 of it here), missed before the whole-turn scan of the exact model
-    (:func:`ik7r._kernels.complete._shoulder_turn`): there the deviation moves the virtual centre
+    (:func:`ik7r._kernels.scans._shoulder_turn`): there the deviation moves the virtual centre
     by as much as its distance from axis 1, and exact solutions lie anywhere in q1."""
     assert misses(_near_shoulder_robot(name, irb), np.array([q])) == []
 

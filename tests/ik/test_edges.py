@@ -443,14 +443,14 @@ def test_the_continuums_walk_does_not_step_over_a_ridge(paper):
     two solutions: along the path
     of least residual between them (q2 stepped, the other joints by reference_ik's
     Levenberg-Marquardt) the pose is missed by more than twice the tolerance (5.5 times). The
-    walk that decides what is a shadow of the continuum (``_walked`` in complete.py) must not
+    walk that decides what is a shadow of the continuum (``_walked`` in answers.py) must not
     join them. It did: its points stayed on the continuum and its last step moved the tilt by
     all of its 2.8e-4 rad at once (a step could move any joint by twice the largest joint's
     share); now a step may move each joint by twice its own share (plus DUP_TOL)."""
     from reference_ik import Chain, _residual_and_jacobian, exact
     from scipy.optimize import least_squares
 
-    from ik7r._kernels import complete
+    from ik7r._kernels import answers, constants
 
     rng = np.random.default_rng(1205)
     q = np.r_[rng.uniform(-np.pi, np.pi), np.pi / 2, -np.pi / 2, rng.uniform(-np.pi, np.pi), 0.0,
@@ -461,7 +461,7 @@ def test_the_continuums_walk_does_not_step_over_a_ridge(paper):
     x = X[np.sign(X[:, 4]) == np.sign(q[4])][0]
     c = _turned(q, x[0], _turn_sign(paper, T, q))
     assert exact(paper, np.array([c, x]), T)[2].all()
-    assert np.abs(wrap(x - c)).max() < complete.CONTINUUM_WINDOW  # (where the walk decides)
+    assert np.abs(wrap(x - c)).max() < constants.CONTINUUM_WINDOW  # (where the walk decides)
     ch = Chain(paper)
     free = [0, 2, 3, 4, 5]
     worst, prev = 0.0, c.copy()
@@ -472,8 +472,8 @@ def test_the_continuums_walk_does_not_step_over_a_ridge(paper):
         prev = np.r_[fit.x[0], y[1], fit.x[1:]]
         worst = max(worst, exact(paper, prev[None], T)[0][0] / ch.tol)
     assert worst > 2.0
-    mats = np.zeros((complete._NMATS, 4, 4))
-    assert not complete._walked(c, x, T, paper.kernel_params, mats)
+    mats = np.zeros((constants.NMATS, 4, 4))
+    assert not answers._walked(c, x, T, paper.kernel_params, mats)
 
 
 @pytest.mark.xfail(strict=True, raises=AssertionError, reason=(

@@ -13,10 +13,16 @@ from helpers import wrap
 from reference_ik import reference_fk
 
 import ik7r
+from ik7r._kernels import answers as _answers
 from ik7r._kernels import complete as _complete
+from ik7r._kernels import constants as _constants
 from ik7r._kernels import fk as _kin
+from ik7r._kernels import gaps as _gaps
+from ik7r._kernels import joints as _joints
 from ik7r._kernels import params as _layout
 from ik7r._kernels import poly as _poly
+from ik7r._kernels import reduced as _reduced
+from ik7r._kernels import scans as _scans
 from ik7r._kernels import wrist as _wrist
 from ik7r.geometry.configs import config_number
 from ik7r.robot import Robot
@@ -104,7 +110,7 @@ def test_wrist_from_cosine_and_sine_inverts_the_wrist_rotation(robots, name):
         _wrist.wrist_rotation(t5, K, W)
         Q = _rot_z(t4) @ W @ _rot_z(t7)
         g4, g7 = _wrist.wrist_ik_cs(Q, math.cos(t5), math.sin(t5), 0.0, K, np.empty((3, 3)))
-        assert abs(_complete.wrap(g4 - t4)) < 1e-9 and abs(_complete.wrap(g7 - t7)) < 1e-9
+        assert abs(_constants.wrap(g4 - t4)) < 1e-9 and abs(_constants.wrap(g7 - t7)) < 1e-9
 
 
 def _rot_z(t):
@@ -123,12 +129,12 @@ def test_indicator_from_cosine_and_sine(robots, name):
         for i in (0, 2):  # joint 1 (Arm) and joint 3 (Elbow)
             q = np.zeros(6)
             q[i] = (theta - K[_layout.DH + 4 * i + 3]) * K[_layout.SIGN + i]
-            near = abs(abs(_complete.wrap(q[i])) - math.pi / 2) < 2 * margin
+            near = abs(abs(_constants.wrap(q[i])) - math.pi / 2) < 2 * margin
             # configuration 1 is Arm 1, Elbow 1; Arm is the 4s bit, Elbow the 2s bit
             bit = 4 if i == 0 else 2
             indicator = 1 - ((config_number(q) - 1) & bit) // bit
             for asked in (0, 1):
-                got = _complete._may_match(i, math.cos(theta), math.sin(theta), asked, margin, K)
+                got = _joints.may_match(i, math.cos(theta), math.sin(theta), asked, margin, K)
                 if near:
                     assert got or asked != indicator
                 else:
@@ -222,7 +228,7 @@ def test_brent_minimiser_where_the_function_is_undefined(edge, undefined):
 
 @pytest.mark.parametrize("name", ["paper", "irb5400"])
 def test_a_nan_candidate_is_never_accepted(name):
-    """``complete._accept`` (the one gate every candidate passes before it is appended) refuses a
+    """``answers.accept`` (the one gate every candidate passes before it is appended) refuses a
     candidate whose forward kinematics is NaN, on an exact and on a deviating model: a NaN
     residual compares false with the tolerance both ways, so the test must ask "within", not
     "beyond". A regular candidate of the same pose is accepted (the gate is not shut)."""
@@ -230,17 +236,17 @@ def test_a_nan_candidate_is_never_accepted(name):
     K = robot.kernel_params
     q0 = np.array([0.3, 0.4, -0.2, 0.5, 0.7, -0.6])
     Td = np.ascontiguousarray(robot.fk(q0))
-    ws = np.zeros(_complete.WORK_SIZE)
-    mats = ws[_complete._MATS:_complete._MATS + _complete._NMATS * 16].reshape((_complete._NMATS, 4, 4))
+    ws = np.zeros(_constants.WORK_SIZE)
+    mats = ws[_constants.W_MATS:_constants.W_MATS + _constants.NMATS * 16].reshape((_constants.NMATS, 4, 4))
     out = np.zeros((_layout.MAX_SOLUTIONS, 6))
     for bad in range(6):
         q = q0.copy()
         q[bad] = np.nan
-        count, exact = _complete._accept(q, Td, K, out, 0, mats, False, False)
+        count, exact = _answers.accept(q, Td, K, out, 0, mats, False, False)
         assert (count, exact) == (0, False), bad
-    count, exact = _complete._accept(q0.copy(), Td, K, out, 0, mats, False, False)
+    count, exact = _answers.accept(q0.copy(), Td, K, out, 0, mats, False, False)
     assert (count, exact) == (1, True)
-    assert np.abs(_complete.wrap(out[0] - q0)).max() < 1e-12
+    assert np.abs(_constants.wrap(out[0] - q0)).max() < 1e-12
 
 
 def _gap_poses(name, seed, n):
@@ -250,7 +256,7 @@ def _gap_poses(name, seed, n):
     K = robot.kernel_params
     Q = np.random.default_rng(seed).uniform(-np.pi, np.pi, (n, 6))
     T07 = np.empty((4, 4))
-    th = np.empty(_complete._NTH)
+    th = np.empty(_constants.NTH)
     for Td in robot.fk(Q):
         _complete.frame07(Td, K, T07)
         yield K, T07[:3, 3].copy(), T07[:3, 2] / np.linalg.norm(T07[:3, 2]), th
@@ -262,25 +268,25 @@ def test_gap_dips_stop_early_only_far_from_zero(name):
     over every dip of its grid on [0, pi] (all four arm branches, 150 poses), a dip stopped
     early would not have come down to SHOULDER_DIP (the largest threshold a dip's bottom is
     compared with) if minimised to the end; and the stop does save work on some dips."""
-    m = _complete.SCAN_GRID
+    m = _constants.SCAN_GRID
     grid = np.linspace(0.0, np.pi, m + 1)
     stopped = 0
     for K, p, a, th in _gap_poses(name, 5, 150):
         for front in (1.0, -1.0):
             for elbow in (1.0, -1.0):
                 g = np.array([abs(v) if ok else np.inf
-                              for v, ok in (_complete._gap(t, p, a, front, elbow, K, th) for t in grid)])
+                              for v, ok in (_gaps.gap(t, p, a, front, elbow, K, th) for t in grid)])
                 for i in range(1, m):
                     if not (np.isfinite(g[i - 1:i + 2]).all() and g[i] < g[i - 1] and g[i] <= g[i + 1]):
                         continue
-                    full = _complete._gap_min(grid[i - 1], grid[i + 1], p, a, front, elbow, K, th, 0.0)
-                    early = _complete._gap_min(grid[i - 1], grid[i + 1], p, a, front, elbow, K, th,
-                                               _complete.DIP_FLOOR)
+                    full = _gaps.gap_min(grid[i - 1], grid[i + 1], p, a, front, elbow, K, th, 0.0)
+                    early = _gaps.gap_min(grid[i - 1], grid[i + 1], p, a, front, elbow, K, th,
+                                               _constants.DIP_FLOOR)
                     assert early[1] >= full[1]
                     if early != full:
                         stopped += 1
-                        assert early[1] >= _complete.DIP_FLOOR
-                        assert full[1] >= _complete.SHOULDER_DIP, (p, a, front, elbow, i, full)
+                        assert early[1] >= _constants.DIP_FLOOR
+                        assert full[1] >= _constants.SHOULDER_DIP, (p, a, front, elbow, i, full)
     assert stopped > 0
 
 
@@ -298,8 +304,8 @@ def test_gap_reaches_is_the_gaps_ok(name):
                 grid = np.linspace(lo, hi, 65)
 
                 def both(t, K=K, p=p, a=a, th=th, front=front, elbow=elbow):
-                    ok = _complete._gap(t, p, a, front, elbow, K, th)[1]
-                    assert _complete._gap_reaches(t, p, a, front, elbow, K, th) == ok, (front, elbow, t)
+                    ok = _gaps.gap(t, p, a, front, elbow, K, th)[1]
+                    assert _gaps._gap_reaches(t, p, a, front, elbow, K, th) == ok, (front, elbow, t)
                     seen.add(ok)
                     return ok
 
@@ -353,7 +359,7 @@ def test_reduced_residual_against_a_converged_least_squares():
         v = src[3] + rng.uniform(-0.3, 0.3)
         q = src.copy()
         q[:3] += rng.uniform(-1e-3, 1e-3, 3)  # (a start like the scan's: the arm near, q5 near 0)
-        r, norm, ok = _complete._reduced_at(q, 3, v, Td, K, *work)
+        r, norm, ok = _reduced._reduced_at(q, 3, v, Td, K, *work)
         assert ok
 
         def err(x, v=v, Td=Td):
@@ -364,7 +370,7 @@ def test_reduced_residual_against_a_converged_least_squares():
 
         fit = least_squares(err, q[free], xtol=1e-15, ftol=1e-15, gtol=1e-15, method="lm")
         ref_norm = np.linalg.norm(fit.fun)
-        assert abs(norm - ref_norm) <= 10 * _complete.REDUCED_SETTLE ** 2, (norm, ref_norm)
+        assert abs(norm - ref_norm) <= 10 * _constants.REDUCED_SETTLE ** 2, (norm, ref_norm)
         assert np.abs(q[free] - fit.x).max() < 1e-4
         qls = src.copy()
         qls[free] = fit.x
@@ -404,7 +410,7 @@ def test_least_squares_step_is_numpys_least_squares_in_five_joints():
         e = rng.normal(size=6)
         j = int(rng.integers(6))
         others = [c for c in range(6) if c != j]
-        rel = _complete._least_squares_step(J, e, j, A, g, dq)
+        rel = _reduced._least_squares_step(J, e, j, A, g, dq)
         Jo = J[:, others]
         ref = np.linalg.lstsq(Jo, e, rcond=None)[0]
         sv = np.linalg.svd(Jo, compute_uv=False)
@@ -413,7 +419,7 @@ def test_least_squares_step_is_numpys_least_squares_in_five_joints():
         tol = 1e-13 * (sv[0] / sv[-1]) ** 2
         assert np.abs(dq[others] - ref).max() <= tol * np.abs(ref).max(), (k, sv[0] / sv[-1])
     J[:, 2] = 2.0 * J[:, 1]
-    assert _complete._least_squares_step(J, e, 0, A, g, dq) < 1e-15
+    assert _reduced._least_squares_step(J, e, 0, A, g, dq) < 1e-15
 
 
 def test_polish_settle_stops_unverified_next_to_the_solution():
@@ -452,13 +458,13 @@ def test_partner_filter_is_the_frobenius_condition_number():
         J = np.empty((6, 6))
         _kin.jacobian(q, K, J)
         J[:3] /= K[_layout.SCALE]
-        c = _complete._condition_frobenius(J, *work)
+        c = _reduced._condition_frobenius(J, *work)
         ref = np.linalg.cond(J, "fro")
         assert abs(c - ref) <= 1e-8 * ref, (c, ref)
         c2 = np.linalg.cond(J, 2)
         assert c2 * (1 - 1e-9) <= c <= 6 * c2 * (1 + 1e-9)
     J[:, 2] = J[:, 1]
-    assert _complete._condition_frobenius(J, *work) == np.inf
+    assert _reduced._condition_frobenius(J, *work) == np.inf
 
 
 def test_isolate_bounded_where_the_residual_stays_at_rounding(monkeypatch):
@@ -488,7 +494,7 @@ def test_isolate_bounded_where_the_residual_stays_at_rounding(monkeypatch):
         return compiled(*args)
 
     monkeypatch.setattr(_poly, "_bernstein", counted)  # (seen by isolate's Python original)
-    n = _complete._NBRACKETS
+    n = _constants.NBRACKETS
     blo, bhi, bsure = np.empty(n), np.empty(n), np.empty(n)
     count = _poly.isolate.py_func(0, lo, hi, p, a, K, Bm, bnorm, blo, bhi, bsure,
                                   np.empty((n, Bm.shape[0])), np.empty(_poly.ISOLATE_WORK))
@@ -511,16 +517,16 @@ def test_fold_gap_pair_is_the_fold_gap_of_each_elbow():
     K = Robot(name="b45", dh=dh).kernel_params
     Q = np.random.default_rng(1271).uniform(-np.pi, np.pi, (40, 6))
     T07 = np.empty((4, 4))
-    th = np.empty(_complete._NTH)
+    th = np.empty(_constants.NTH)
     seen = set()
     for Td in Robot(name="b45", dh=dh).fk(Q):
         _complete.frame07(Td, K, T07)
         p, a = T07[:3, 3].copy(), T07[:3, 2] / np.linalg.norm(T07[:3, 2])
         for sw in np.linspace(-0.15, 0.25, 41):
             for front in (1.0, -1.0):
-                pair = _complete._fold_gap_pair(sw, p, a, front, K, th)
-                one = (_complete._fold_gap(sw, p, a, front, 1.0, K, th)
-                       + _complete._fold_gap(sw, p, a, front, -1.0, K, th))
+                pair = _gaps.fold_gap_pair(sw, p, a, front, K, th)
+                one = (_gaps.fold_gap(sw, p, a, front, 1.0, K, th)
+                       + _gaps.fold_gap(sw, p, a, front, -1.0, K, th))
                 assert pair == one, (sw, front)
                 seen.update((pair[1], pair[3]))
     assert seen == {True, False}
@@ -544,31 +550,31 @@ def test_reduced_scans_that_join_a_curve_take_its_grid(monkeypatch):
     T = robot.fk(q)
     K = robot.kernel_params
     s4, s7 = robot.joint_sign[3], robot.joint_sign[6]
-    ws = np.empty(_complete.WORK_SIZE)
-    ws[_complete._NRSCAN] = 0.0
-    mats = ws[_complete._MATS:_complete._MATS + _complete._NMATS * 16].reshape((_complete._NMATS, 4, 4))
-    mats[_complete._MEMO_N, 0, 0] = 0.0
+    ws = np.empty(_constants.WORK_SIZE)
+    ws[_constants.W_NRSCAN] = 0.0
+    mats = ws[_constants.W_MATS:_constants.W_MATS + _constants.NMATS * 16].reshape((_constants.NMATS, 4, 4))
+    mats[_constants.MAT_MEMO_N, 0, 0] = 0.0
     out = np.empty((64, 6))
     evaluations = [0]
-    compiled = _complete._reduced_at
+    compiled = _reduced._reduced_at
 
     def counted(*args):
         evaluations[0] += 1
         return compiled(*args)
 
-    monkeypatch.setattr(_complete, "_reduced_at", counted)  # (seen by _reduced_scan's original)
+    monkeypatch.setattr(_reduced, "_reduced_at", counted)  # (seen by _reduced_scan's original)
 
     def scan(arm, count):
         """The family's scan as _straight_family starts it: q4 = -pi, q5 = 0, the sum kept."""
         total = s4 * q[3] + s7 * q[5]
         start = np.array([arm[0], arm[1], arm[2], -math.pi, 0.0, s7 * (total + s4 * math.pi)])
         evaluations[0] = 0
-        count = _complete._reduced_scan.py_func(start, 3, -math.pi, math.pi, _complete.REDUCED_GRID,
+        count = _reduced.reduced_scan.py_func(start, 3, -math.pi, math.pi, _constants.REDUCED_GRID,
                                                 T, K, out, count, ws, mats)
-        return count, evaluations[0], int(ws[_complete._NRSCAN])
+        return count, evaluations[0], int(ws[_constants.W_NRSCAN])
 
     count, first, curves = scan(q[:3], 0)
-    assert count >= 1 and first >= _complete.REDUCED_GRID + 1 and curves == 1
+    assert count >= 1 and first >= _constants.REDUCED_GRID + 1 and curves == 1
     for dq1 in (0.3, -0.3, 0.6):
         again, joined, curves = scan(q[:3] + [dq1, 0.0, 0.0], count)
         assert again == count and curves == 1, (dq1, again, curves)
@@ -576,7 +582,7 @@ def test_reduced_scans_that_join_a_curve_take_its_grid(monkeypatch):
     other = robot.ik_all(T)
     other = other[np.abs(wrap(other[:, 1] - q[1])) > 0.5][0]  # the other elbow's arm
     more, own, curves = scan(other[:3], count)
-    assert curves == 2 and own >= _complete.REDUCED_GRID + 1
+    assert curves == 2 and own >= _constants.REDUCED_GRID + 1
     assert more > count
     F = reference_fk(robot, out[:more])
     assert np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=1).max() <= robot.position_tolerance
@@ -587,16 +593,16 @@ def test_a_shoulder_dip_found_twice_is_scanned_once():
     """``_dip_scanned``: the first dip of an elbow branch is new (and remembered); the same dip
     again within SHOULDER_DIP_SAME (also across the wrap at +-pi) is not, while a dip on the
     other elbow branch or SHOULDER_DIP_SAME beyond is; a new pose (the count reset) forgets."""
-    ws = np.zeros(_complete.WORK_SIZE)
-    same = _complete.SHOULDER_DIP_SAME
-    assert not _complete._dip_scanned(1.25, 1.0, ws)
-    assert _complete._dip_scanned(1.25 + 0.5 * same, 1.0, ws)
-    assert not _complete._dip_scanned(1.25, -1.0, ws)
-    assert not _complete._dip_scanned(1.25 + 2 * same, 1.0, ws)
-    assert not _complete._dip_scanned(math.pi - 0.25 * same, -1.0, ws)
-    assert _complete._dip_scanned(-math.pi + 0.25 * same, -1.0, ws)
-    ws[_complete._NSDIP] = 0.0
-    assert not _complete._dip_scanned(1.25, 1.0, ws)
+    ws = np.zeros(_constants.WORK_SIZE)
+    same = _constants.SHOULDER_DIP_SAME
+    assert not _scans._dip_scanned(1.25, 1.0, ws)
+    assert _scans._dip_scanned(1.25 + 0.5 * same, 1.0, ws)
+    assert not _scans._dip_scanned(1.25, -1.0, ws)
+    assert not _scans._dip_scanned(1.25 + 2 * same, 1.0, ws)
+    assert not _scans._dip_scanned(math.pi - 0.25 * same, -1.0, ws)
+    assert _scans._dip_scanned(-math.pi + 0.25 * same, -1.0, ws)
+    ws[_constants.W_NSDIP] = 0.0
+    assert not _scans._dip_scanned(1.25, 1.0, ws)
 
 
 def test_arm_just_out_of_reach_takes_the_nearest_arm_within_its_slack():
@@ -638,8 +644,8 @@ def test_straight_snap_beside_axis1_with_the_elbow_stretched_is_polished_straigh
     q = np.array([0.3, np.pi / 2, -np.pi / 2, 0.0, 0.0, 0.0])
     Td = robot.fk(q)
     snap = np.array([0.0, 1.5707958859156517, -1.570796342533527, 0.0, 0.0, -0.30000000000002947])
-    mats = np.zeros((_complete._NMATS, 4, 4))
-    assert _complete._straight_damped(snap, Td, K, np.zeros(6), False, mats)
+    mats = np.zeros((_constants.NMATS, 4, 4))
+    assert _answers.straight_damped(snap, Td, K, np.zeros(6), False, mats)
     assert snap[4] == 0.0
     T = reference_fk(robot, snap)
     assert np.abs(T[:3, 3] - Td[:3, 3]).max() <= robot.position_tolerance
@@ -703,7 +709,7 @@ def test_other_wrist_of_an_arm_is_its_other_solution(robots, name):
         q[4] = rng.choice([-1.0, 1.0]) * rng.uniform(0.1, np.pi - 0.1)
         T = robot.fk(q)
         _complete.frame07(T, K, T07)
-        _complete._other_wrist(q, T07[:3, :3].copy(), K, th, M, Q, W, qq)
+        _joints.other_wrist(q, T07[:3, :3].copy(), K, th, M, Q, W, qq)
         assert np.array_equal(qq[:3], q[:3])
         assert qq[4] * q[4] < 0.0 and abs(abs(qq[4]) - abs(q[4])) < 1e-12
         F = reference_fk(robot, qq)

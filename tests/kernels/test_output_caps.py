@@ -10,7 +10,7 @@ import sys
 _CASE = r"""
 import numpy as np
 import ik7r
-from ik7r._kernels import bernstein_tables, complete
+from ik7r._kernels import bernstein_tables, complete, constants
 
 robot = ik7r.load_robot()
 K = robot.kernel_params
@@ -26,9 +26,9 @@ except RuntimeError as exc:
     print("rows:", exc)
 T07 = np.empty((4, 4))
 complete.frame07(T, K, T07)
-ws = np.zeros(complete.WORK_SIZE)
+ws = np.zeros(constants.WORK_SIZE)
 a = T07[:3, 2] / np.linalg.norm(T07[:3, 2])
-nr = complete._roots(0, T07[:3, 3].copy(), a, K, Bm, bnorm, np.empty(complete.ROOT_CAP), ws)
+nr = complete._roots(0, T07[:3, 3].copy(), a, K, Bm, bnorm, np.empty(constants.ROOT_CAP), ws)
 print("roots", nr)
 try:
     complete._roots(0, T07[:3, 3].copy(), a, K, Bm, bnorm, np.empty(nr - 1), ws)

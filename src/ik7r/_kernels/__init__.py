@@ -12,7 +12,15 @@ fk         DH chain, forward kinematics, frames, Jacobian, pose error, Newton po
 arm        the arm (joints 1-3) for a virtual wrist centre
 wrist      the wrist (joints 4, 5, 7) and the theta5 <-> d map
 poly       the residual polynomial, its certified root isolation, the Bernstein tables
-complete   every solution of one pose
+complete   every solution of one pose: ``solve_into``, over the solver's stages
+constants  the solver's tolerances, windows and grids; the layout of its work array
+singular   where a pose lies relative to the singular sets (the solver's predicates)
+answers    what is exact and what is one solution: accept, add, the output's passes
+joints     a candidate's six joints from the arm's angles and the wrist
+reduced    the exact model's reduced residual and its scans (deviating models)
+candidates each arm branch at a root of the residual, its wrists, verified
+gaps       the bend, shoulder and fold gaps the scans search
+scans      the scans beside the polynomial: undecided brackets, shoulder set, fold
 select     indicators, joint limits, nearest to a seed; fused single and batch calls
 track      warm-started paths
 film       paint film thickness per mesh vertex over gun poses (with occlusion)

@@ -312,7 +312,7 @@ def polish(q, Td, K, max_iter, damped=False, patience=0, settle=0.0, moving=ALL_
     move (bit ``i`` for joint ``i + 1``); with any joint held the others move by damped
     least-squares steps (:func:`_damped_step`). ``floor`` < 1: polish on to that fraction of
     the tolerances (where the FK is flat the first point within them is at the edge of a wide
-    band; see :func:`ik7r._kernels.complete._floored`).
+    band; see :func:`ik7r._kernels.answers._floored`).
     """
     return polish_into(q, Td, K, max_iter, np.empty((4, 4)), np.empty((6, 6)), np.empty(6), np.empty(6),
                        np.empty((7, 6)), damped, patience, settle, moving, floor)

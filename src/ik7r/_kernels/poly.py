@@ -165,7 +165,7 @@ def residual_of(kind, u, p, a, K):
     ``u^n G(KW / u)`` is a polynomial of the same degree n in u, and u runs over the bounded
     interval ``[cos(2 beta), 1]`` for every wrist twist up to 45 deg (where d is unbounded).
     """
-    u = _off_zero(u)
+    u = off_zero(u)
     d = K[L.KW] / u
     if kind == 0:
         v, m = residual_G(d, p, a, K)
@@ -176,19 +176,19 @@ def residual_of(kind, u, p, a, K):
         if s2 < 0.0:
             return math.nan, math.nan
         v, m = residual_F(d, (1.0 if kind == 2 else -1.0) * math.sqrt(s2), p, a, K)
-    scale = _power(u, K)
+    scale = degree_power(u, K)
     return v * scale, m * scale
 
 
 @njit
-def _off_zero(u):
+def off_zero(u):
     """``u`` moved to at least 1e-6 from zero (d beyond 1e6 KW: the value is rounding noise
     there anyway)."""
     return math.copysign(max(abs(u), 1e-6), u)
 
 
 @njit
-def _power(u, K):
+def degree_power(u, K):
     """``u^n`` for the degree n (8 or 16) of the residual."""
     u2 = u * u
     u4 = u2 * u2
@@ -205,19 +205,19 @@ def _residual_at_nodes(d0, d1, p, a, K, nodes, vals, mags):
     half = 0.5 * (d1 - d0)
     if K[L.PRODUCT] == 0.0:
         for j in range(nodes.shape[0]):
-            u = _off_zero(mid + half * nodes[j])
+            u = off_zero(mid + half * nodes[j])
             d = K[L.KW] / u
             v, m = residual_F(d, math.sqrt(max(_rho_squared(d, p, a, K), 0.0)), p, a, K)
-            scale = _power(u, K)
+            scale = degree_power(u, K)
             vals[j] = v * scale
             mags[j] = m * scale
     else:
         for j in range(nodes.shape[0]):
-            u = _off_zero(mid + half * nodes[j])
+            u = off_zero(mid + half * nodes[j])
             d = K[L.KW] / u
             s2 = _rho_squared(d, p, a, K)
             v, m = _residual_F_pair(d, s2, p, a, K)
-            scale = _power(u, K)
+            scale = degree_power(u, K)
             vals[j] = v * scale
             mags[j] = math.copysign(m * scale, s2)
 
@@ -304,7 +304,7 @@ def isolate(kind, d0, d1, p, a, K, Bmat, bnorm, blo, bhi, bsure, bcoef, work):
     (Descartes' rule of signs). Writes brackets ``[blo, bhi]`` (ascending, in d) and returns
     their number; ``bsure`` is 0.0 (else 1.0) for brackets no longer than ``WMIN`` that stayed
     undecided (a tangential root or a cluster); ``bcoef[k]`` (n + 1,) holds the Bernstein
-    coefficients of a sure bracket on it (for :func:`_newton_on_bracket`). Returns -1 when the residual is
+    coefficients of a sure bracket on it (for :func:`newton_on_bracket`). Returns -1 when the residual is
     zero within rounding everywhere (a continuum of solutions). Only intervals proved
     root-free are discarded. ``work``: at least ISOLATE_WORK floats (``bsure`` too is floats:
     1.0 for sure).
@@ -414,7 +414,7 @@ def illinois_step(x0, x1, f0, f1, side, x, fx):
     value kept at the end that stays twice in a row halved. ``side``: which end moved last
     (0 at the start). Returns (x0, x1, f0, f1, side, done); done when the bracket is down to
     the last bits. Every root finder on a bracket uses it (:func:`_illinois`,
-    :func:`ik7r._kernels.complete._gap_root`)."""
+    :func:`ik7r._kernels.gaps.gap_root`)."""
     if (fx > 0.0) == (f1 > 0.0):
         x1, f1 = x, fx
         if side == -1:
@@ -447,7 +447,7 @@ def _illinois(kind, x0, x1, f0, f1, p, a, K):
 @njit(allocates=True)
 def refine(kind, d0, d1, p, a, K, out):
     """Roots of the residual ``kind`` at d (the true residual, not its interpolant) in an
-    undecided bracket [d0, d1] (a sure one goes to :func:`_newton_on_bracket`).
+    undecided bracket [d0, d1] (a sure one goes to :func:`newton_on_bracket`).
 
     Sign changes on a grid of the bracket are refined to full precision; without any, the grid
     point of least ``|f|`` (a tangential root) is returned, refined to the least ``|f|``.
@@ -472,13 +472,13 @@ def refine(kind, d0, d1, p, a, K, out):
               and (i == m or abs(fs[i]) <= abs(fs[i + 1]))):
             # a local minimum of |f| without a sign change: a tangential root or a near miss
             # (a candidate; the forward kinematics decides)
-            out[count] = _least_abs(kind, xs[max(0, i - 1)], xs[min(m, i + 1)], p, a, K)
+            out[count] = least_abs(kind, xs[max(0, i - 1)], xs[min(m, i + 1)], p, a, K)
             count += 1
     return count
 
 
 @njit
-def _newton_on_bracket(kind, d0, d1, bb, p, a, K, w):
+def newton_on_bracket(kind, d0, d1, bb, p, a, K, w):
     """The one root in [d0, d1] of a bracket whose interpolant ``bb`` (Bernstein coefficients
     with one sign change) is known: Newton's method on the interpolant (safeguarded by
     bisection) gives a start within rounding of the root, which Newton steps on the true
@@ -562,8 +562,8 @@ def brent_start(lo, hi):
     first point to evaluate. The state is ``(a, b, x, w, v, fx, fw, fv, d, e, tol)``; evaluate
     ``f`` at the point returned and pass it to :func:`brent_take`, then ask :func:`brent_next`
     for the next point until it says done: ``x`` (state[2]) is then the least point found,
-    ``fx`` (state[5]) its value. Every minimiser of a bracket uses it (:func:`_least_abs`,
-    :func:`ik7r._kernels.complete._gap_min`): about 10 to 40 values where plain golden section
+    ``fx`` (state[5]) its value. Every minimiser of a bracket uses it (:func:`least_abs`,
+    :func:`ik7r._kernels.gaps.gap_min`): about 10 to 40 values where plain golden section
     took 100 or more. ``lo`` and ``hi`` may come in either order (a scan toward smaller values
     gives them so; its stopping test, taken as given, stopped at the first point)."""
     if hi < lo:
@@ -643,7 +643,7 @@ def brent_take(st, u, fu):
 
 
 @njit
-def _least_abs(kind, lo, hi, p, a, K):
+def least_abs(kind, lo, hi, p, a, K):
     """The least ``|f|`` of the residual ``kind`` in [lo, hi] (Brent's minimiser)."""
     st, u = brent_start(lo, hi)
     for _ in range(200):

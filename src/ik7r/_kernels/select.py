@@ -10,7 +10,8 @@ import numpy as np
 from ..geometry import configs
 from ..robot.family import MAX_JOINT_ANGLE
 from . import params as L
-from .complete import DUP_TOL, WORK_SIZE, solve_into, wrap
+from .complete import solve_into
+from .constants import DUP_TOL, WORK_SIZE, wrap
 from .jit import njit, shared
 from .validate import validate_pose
 

@@ -12,7 +12,8 @@ from __future__ import annotations
 import numpy as np
 
 from . import params as L
-from .complete import WORK_SIZE, solve_into, wrap
+from .complete import solve_into
+from .constants import WORK_SIZE, wrap
 from .fk import polish_into
 from .jit import njit
 from .select import matches, select

@@ -1,0 +1,329 @@
+"""The complete solver's constants and the layout of its work array.
+
+Every tolerance, window and grid of the solver (:mod:`.complete` and the modules below it),
+each with the measurement that set it, and the one work array a pose uses (``ws``, sized
+WORK_SIZE): its named blocks (``W_*``) and the stack of 4 x 4 matrices at its start (``mats``,
+entries ``MAT_*``). Also the one angle wrap, to (-pi, pi] (:mod:`ik7r.geometry.rotations`).
+"""
+
+from __future__ import annotations
+
+import math
+
+from ..geometry import rotations
+from .jit import shared
+from .poly import ISOLATE_WORK, MAX_DEGREE, REFINE_GRID
+
+TWO_PI = 2.0 * math.pi
+DUP_TOL = 1e-5  # two solutions closer than this (rad, every joint) are one (near a singular arm or
+# wrist the FK is flat and its exact solutions come as clusters of numerically equal shadows)
+
+
+#: Start (rad) off a singular wrist for polishing models that deviate from the idealised one.
+NEAR_SINGULAR = 2e-3
+#: Near-miss scan of deviating models: grid size, and how close to zero (relative to the
+#: magnitude of the residual's terms) a local minimum of |residual| must come.
+NEAR_GRID = 64
+NEAR_RATIO = 1e-2
+#: ... (or at its refined minimum, where the grid's least value is below NEAR_RATIO_GRID of that
+#: magnitude and the parabola through it and its neighbours dips toward zero (:func:`dips_to_zero`):
+#: a factor's minimum between grid points reads higher on the grid; one IRB 5400 pair beside the
+#: stretched elbow read 6.6e-2 on the grid and 9e-5 at its minimum)
+NEAR_RATIO_GRID = 0.25
+#: ... and, at its refined minimum, for one factor of G at an end of the range (see
+#: :func:`_near_misses`; inside the range a factor's grid minimum is held to NEAR_RATIO as G's)
+NEAR_RATIO_END = 1e-4
+#: Most candidate roots of one pose: every bracket (24) may give REFINE_GRID + 2 candidates, and
+#: on a deviating model the near misses (:func:`_near_misses`) three starts per local minimum of
+#: each of up to three residuals on NEAR_GRID + 1 points (at most NEAR_GRID // 2 + 1 minima each).
+ROOT_CAP = 24 * (REFINE_GRID + 2) + 3 * 3 * (NEAR_GRID // 2 + 1)
+#: solve_config skips candidates whose indicators differ beyond this margin (rad) from a
+#: boundary (larger for deviating models, whose polish moves the joints further).
+FILTER_MARGIN = 1e-3
+FILTER_MARGIN_DEVIATING = 0.1
+#: Window (rad) around theta5 = 0 and pi where solutions are tried at exactly 0 or pi first, and
+#: where nearly folded solutions merge into the folded one.
+FOLD_WINDOW = 1e-4
+#: On the idealised model the wrist is snapped to theta5 = pi only this close (rad) to it: the two
+#: wrist solutions +-(pi - eps) beside the fold are 2 eps apart (every other joint closer), so
+#: below eps = DUP_TOL / 2 they are one solution (:func:`add_answer`), above it two, each exact, while
+#: theta5 = pi between them only meets the pose within the tolerance (the paper robot at
+#: eps = 2.4e-5: 2.5e-11 mm at best, its segment to either solution inexact by 7e-9 mm).
+FOLD_SNAP = 0.5 * DUP_TOL
+#: A solution with theta5 within this (rad) of 0 is exactly straight: only s4 q4 + s7 q7 counts.
+STRAIGHT_EXACT = 1e-9
+#: Two exact solutions closer than this (rad, every joint) are one when the segment between
+#: them is exact too (see :func:`add_answer`).
+MERGE_WINDOW = 1e-2
+#: A solution on the shoulder set (its virtual wrist centre on axis 1) lies in a valley where
+#: the FK is flat in q1 (with the wrist nearly straight, also in q7): the polish stops at the
+#: first point within the tolerances, at the edge of a band up to 1e-2 rad wide, and one
+#: solution comes twice, once from each side, a straight segment apart that leaves the valley.
+#: Such answers are polished on toward FLOOR times the tolerances (at most FLOOR_ITERS Newton
+#: steps; see :func:`floor_shoulder`), which takes them to the solution's root within DUP_TOL.
+FLOOR = 1e-3
+FLOOR_ITERS = 4
+#: Axis 4 on axis 1 (the arm stretched along it: the paper robot's q2 = 90, q3 = -90 deg) turns
+#: joints 1 and 4 together without moving the tool: an exact solution there is a continuum, kept
+#: once, at the seed's q1 (else 0; see :func:`add_answer`). An exact point within CONTINUUM_WINDOW (rad,
+#: every joint) of the continuum's point at its own q1 is that solution when a walk from that
+#: point to it stays exact (:func:`_walked`, its points WALK_STEP apart): next to the continuum
+#: the FK is flat, and the scans' exact points there (and the continuum's own isolated neighbours,
+#: whose Jacobian's smallest singular value is about 1e-14 of its largest) are its shadows. In a
+#: pose with such a continuum the same walk joins two exact points of the shoulder set this close
+#: (elsewhere it would join distinct solutions of a near-shoulder pose, 1.3e-3 rad apart in q1,
+#: that the straight segment of :func:`_joined` keeps apart).
+CONTINUUM_WINDOW = 3e-2
+WALK_STEP = 2e-3
+WALK_MIN = 4  # (points at least: a walk shorter than WALK_STEP is checked at its quarters too)
+WALK_SLACK = DUP_TOL  # (how much farther than twice its share a walk's step may move a joint)
+#: ... and a point of the continuum turned to another joint 1 that misses the pose by no more
+#: than this many times the tolerances is polished onto it (see :func:`_turn_onto`).
+TURN_SLACK = 100.0
+#: A candidate of the idealised model on the shoulder singular set (:func:`on_shoulder_set`)
+#: whose Jacobian is singular is polished by damped steps (:func:`ik7r._kernels.fk.polish`) when
+#: no solution found lies within this (rad, every joint): there a nearly straight wrist makes
+#: clusters of exact solutions, and axis 7 on axis 1 continua, whose members Newton cannot
+#: polish. Closer to a solution found, the candidate is taken for a shadow of it and polished by
+#: plain Newton steps (damped steps there merged the candidates beside the fold into the solution
+#: found). That is a measured rule, not a bound: the FK is flat along the cluster, not across it
+#: (1e-3 rad off an exact solution in a random direction misses the pose by 0.2-0.9 mm on the paper
+#: robot), so a second exact solution within 1e-3 rad relies on Newton (docs/guide/edges.md).
+SINGULAR_ALONE = 1e-3
+
+#: Grid of the theta5 scan of an undecided bracket (see :func:`scan_theta5`), and how close to
+#: zero (rad) a local minimum of its bend gap must come to be a candidate (exact, deviating).
+SCAN_GRID = 32
+SCAN_PIECES = 12  # the grid and the pieces (next to branch ends, around dips) it may add
+#: A dip that reaches (nearly) zero is scanned again on a grid of its own while its two cells
+#: are at least SCAN_NEST of the scanned range wide, SCAN_NEST_FOLD_AXIS in the fold gap in
+#: theta1 (:func:`_fold_axis_gap`): there a vertical approach next to the fold leaves two roots
+#: 1.8e-3 rad apart in theta1 (b-45_mirrored, q5 1.2e-7 from pi), one grid cell of the nest
+#: SCAN_NEST allows, and minimising |gap| over the cell finds only one of them.
+SCAN_NEST = 1e-2
+SCAN_NEST_FOLD_AXIS = 1e-4
+#: Pieces narrower than this (relative to 1 + |start|, in their own variable) are not gridded:
+#: one candidate from their sign change or their least |gap| (see :func:`_scan_piece`).
+SCAN_TINY = 1e-10
+#: A dip of a theta5 or fold gap (smooth on its branch) is minimised only until Brent's bracket
+#: is below DIP_EARLY of the dip's two cells, if its least |gap| so far is then above DIP_FLOOR
+#: (rad; twice SHOULDER_DIP, the largest threshold a dip's bottom is compared with): such a dip
+#: gives no candidate (over 8,000 dips minimised to the end, none the rule stops came below 0.201).
+#: Not for the gaps in theta1 (shoulder set, fold on axis 1): the shoulder gap's dips narrow to
+#: zero within 1e-8 of their cells (docs/guide/edges.md, "The tail's time"), at every distance of
+#: the deviating models' scan (1e-7 .. 2e-3 of the size) alike.
+DIP_EARLY = 1e-1
+DIP_FLOOR = 0.2
+#: The theta1 scan runs where the line of virtual centres passes this close (relative to the
+#: robot's size) to axis 1.
+SHOULDER_NEAR = 1e-5
+#: ... and this for a model that deviates from the idealised one (near the set its solutions come
+#: in clusters the idealised roots do not have: the nominal gap's dips are candidates there),
+#: relative to the larger of the size and the line's d there (:func:`shoulder_offset`; this and
+#: the two windows below)
+SHOULDER_SCAN_DEVIATING = 2e-3
+#: ... where the nominal shoulder gap has a dip below SHOULDER_DIP (rad), the exact model's
+#: reduced residual in q1 is tracked SHOULDER_REACH (rad) each way from the dip's bottom, on
+#: SHOULDER_CELLS cells each way (see :func:`_shoulder_exact`; the IRB 5400's exact solutions
+#: were measured up to 0.11 rad from the bottom, beyond the dip's two cells of the turn's grid)
+SHOULDER_DIP = 0.1
+SHOULDER_REACH = 0.4
+SHOULDER_CELLS = 8
+#: ... where the line of virtual centres passes this close (relative to the robot's size, or to
+#: its d there where that is larger) to axis 1 (1.0 mm on the IRB 5400, whose such clusters
+#: were measured within 0.6 mm); out to SHOULDER_EXACT_FAR the reach shrinks as
+#: SHOULDER_EXACT_NEAR / r (the deviation moves the virtual centre by about a fixed distance, so
+#: the exact solutions move by about its angle seen from axis 1), on proportionally fewer cells
+#: (at least 2): a rounded 35 deg robot's source 0.1 to 0.2 rad from the dip, the line 3.23e-4
+#: of the size from axis 1. Within SHOULDER_EXACT_NEAR the exact model is also scanned over the
+#: whole turn of q1, once per elbow branch and wrist sign (:func:`_shoulder_turn`): there the
+#: deviation moves the virtual centre as far as its distance from axis 1, and exact solutions
+#: lie far beyond any dip's reach.
+SHOULDER_EXACT_NEAR = 3e-4
+SHOULDER_EXACT_FAR = 5e-4
+#: ... and where no arm of the turn reaches the virtual centre (the elbow stretched or folded,
+#: within the deviation of the exact model's reach), the whole turn is tracked from the nearest
+#: arm of the first that misses it by less than this in the elbow's cosine (rounded_b45: a
+#: source whose nominal arm is 0.026 mm, 7.2e-6 in the cosine, short of folded enough)
+SHOULDER_TURN_SLACK = 1e-3
+#: ... and a scan in q1 starts its wrist bent by this (rad) at least: from a straight one the
+#: five other joints' Gauss-Newton is singular (q4 and q7 on one axis) at every point of the turn,
+#: and its two wrist signs are one start (rounded_b35: the nominal arm's d clamped to DMIN, the
+#: source at q5 = 0.198 lost)
+SHOULDER_TURN_BEND = 2e-2
+#: ... and a dip within this (rad) of one already scanned on the same elbow branch in this pose is
+#: that dip: the root and the dip tests of the shoulder gap's scan found the same one twice, 1e-10
+#: apart, in 1 to 3 of a pose's 7 (IRB 5400), each time 40 reduced residuals more for the same
+#: curves. SHOULDER_DIPS of them are remembered per pose.
+SHOULDER_DIP_SAME = 1e-7
+SHOULDER_DIPS = 16
+#: Models that deviate from the idealised one: theta5 within this (rad) of 0 and pi is scanned
+#: when a root lies there.
+DEVIATING_ENDS = 2e-2
+SCAN_NEAR = 1e-7
+SCAN_NEAR_DEVIATING = 1e-2
+#: ... and the minima of the arm branches' bend gaps on a grid of GAP_NEAR_CELLS over theta5 in
+#: [0, pi] below this (rad) that dip toward zero are refined as near misses (see
+#: :func:`gap_near_misses`)
+GAP_NEAR_GRID = 0.05
+#: ... and one that comes below this (rad) without crossing zero is a candidate: beside the elbow
+#: stretch, where the gap is steep, a near miss of 0.0148 gave a pair of exact solutions on a
+#: rounded member (more than SCAN_NEAR_DEVIATING, the scans' threshold)
+GAP_NEAR_DEPTH = 0.03
+#: Near the fold of a (nearly) 45 deg twist the virtual centre's distance grows as 1 / sw^2 and a
+#: deviating model's arm branch ends (the elbow stretched) where the nominal one does not: the
+#: fold scan takes a branch's end itself as a candidate when the fold gap there is below this
+#: (rad; 0.02 .. 0.025 seen on the rounded 45 deg robot of benchmarks/edges.py, and 0.152 at an
+#: end 0.022 in sw before the exact solution: tests/ik/test_deviating.py)
+FOLD_END_NEAR = 0.2
+GAP_NEAR_CELLS = 12
+#: ... and a grid point beside an arm branch's end (the elbow stretched) whose |gap| falls toward
+#: the end is refined up to the end when below this (rad): beside the stretch the gap is steep,
+#: and on the rounded 45 deg robot a grid point 0.0512 there had a near miss of 3.6e-3 at the end
+GAP_NEAR_END = 0.2
+#: Robots whose fully bent wrist is nearly folded back (``u = cos(2 beta)`` below FOLD_NEAR, a
+#: twist within about 0.6 deg of 45 deg): their virtual centre runs off to infinity near
+#: theta5 = pi, where the residual polynomial cannot be evaluated. The FOLD_SPAN of u next to
+#: the fold is searched with the fold gap instead (:func:`fold_gap`, finite there), the rest by
+#: the polynomial.
+FOLD_NEAR = 0.02
+FOLD_SPAN = 0.05
+#: ... and on a model that deviates from the idealised one, u down to this (of the range) below
+#: the fold too (the nominal roots there, theta5 clamped to pi, start exact solutions at the
+#: fold; 2e-2 found nothing more over 40,000 poses of four rounded 45 deg robots), on a grid of
+#: FOLD_BELOW_CELLS: finer in sw than the span above (see :func:`scan_fold`)
+FOLD_BELOW = 2e-3
+FOLD_BELOW_CELLS = 8
+#: ... and where the scaled virtual centre at the fold is this close to axis 1 (relative to KW
+#: and the robot's size; the approach nearly parallel to axis 1) the fold gap is scanned in
+#: theta1 too.
+FOLD_AXIS_NEAR = 0.01
+#: ... where u up to this below the fold is taken at the fold (see :func:`fold_axis_sw`).
+FOLD_AXIS_CLAMP = 1e-9
+
+#: Straight wrist of a model that deviates from the idealised one (see :func:`straight_family`):
+#: a candidate with theta5 below this (rad) starts a scan of the split q4 over the whole turn,
+#: on a grid of REDUCED_GRID cells with REDUCED_ITERS Gauss-Newton steps per point; at most
+#: NFAMILIES arms per pose are remembered (further ones are scanned without that check).
+STRAIGHT_DEVIATING = 2e-2
+#: ... and below this where the arm is near the shoulder singular set (its virtual centre within
+#: SHOULDER_DEVIATING of the robot's size from axis 1): there the deviation spreads the family's
+#: solutions further (to |q5| = 0.07 on the IRB 5400; a rounded member with a1 = 32 mm had its
+#: nominal candidates at theta5 = 0.105 and 0.18 and exact solutions at 0.054 and 0.127).
+STRAIGHT_SHOULDER = 0.2
+SHOULDER_DEVIATING = 1e-2
+REDUCED_GRID = 48
+#: ... and a grid value of the reduced residual below this fraction of both its neighbours (one
+#: sign) is a dip to minimise (see :func:`dips_to_zero`)
+DIP_SHARP = 0.1
+#: ... and a grid point whose least-squares error ``|e|`` (position over the size, and rad) is a
+#: local minimum below this is a dip whatever the shape of its neighbours: a near miss of the
+#: order of the deviation. Near the shoulder set the five other joints' least squares sharpen the
+#: residual into a notch narrower than a cell, which no three grid values can tell from a
+#: shallow minimum (generated(2): a pair of roots 0.015 rad apart under values -9.0e-8, -6.1e-8,
+#: -3.1e-7 of ``r``, ``|e|`` 3.9e-5, 1.4e-5, 5.9e-5).
+DIP_NEAR = 1e-4
+REDUCED_ITERS = 4
+#: ... stopping before a step below this (rad; see :func:`_reduced_at`)
+REDUCED_SETTLE = 1e-5
+#: ... and a root of it refined until the residual the last step would leave is below this
+#: (position over the size, and rad): the point is then within REDUCED_SETTLE of the solution
+#: in the other joints anyway, which the polish on the exact model takes to the last bits
+#: (see :func:`_reduced_root`)
+REDUCED_ROOT_TOL = 1e-9
+#: ... and a scan over the whole turn whose last point is within this (rad, every joint) of its
+#: first has come back to its start: a closed curve (see :func:`reduced_scan`)
+CLOSED_TOL = 1e-4
+NFAMILIES = 8
+#: Deviating models: a solution whose Jacobian's smallest singular value (position rows over the
+#: robot's size, relative to the largest) is below this may have a partner the idealised model
+#: does not have (see :func:`partners`), looked for up to PARTNER_REACH (rad) away.
+PARTNER_SIGMA = 2e-3
+#: ... and a solution with no other one within this (rad, joints 1 to 3) whose theta5 has the
+#: other sign starts a polish from its arm with the other wrist (see :func:`other_wrists`)
+OTHER_WRIST_ARM = 1e-2
+PARTNER_REACH = 0.3
+#: ... and where the partner step finds nothing new, the reduced residual in the joint the
+#: singular vector moves most is scanned this many cells each way (PARTNER_REACH times that
+#: joint's share of the vector), from PARTNER_STEP of a cell beside the solution (where the
+#: residual is zero, so that the first cell's sign test would read its rounding)
+PARTNER_CELLS = 4
+PARTNER_STEP = 0.1
+
+#: Largest number of Bernstein coefficients, and of brackets.
+NCOEF = MAX_DEGREE + 1
+NBRACKETS = 24
+
+
+def _offsets(**sizes):
+    """Consecutive offsets of named blocks in one work array, and its total size."""
+    out, at = {}, 0
+    for name, size in sizes.items():
+        out[name] = at
+        at += size
+    return out, at
+
+
+# One work array per pose (see solve_into) holds every scratch block.
+# Its small matrices are one block viewed as a stack of 4 x 4 matrices (``mats``, made once per
+# pose: a view of a stack entry costs nothing, a reshape does); these are their indices.
+MAT_T07, MAT_R07, MAT_M, MAT_Q, MAT_T, MAT_WR, MAT_PSI, MAT_CW, MAT_WALK = range(9)
+#: The entry MAT_CW of the stack: the joint 1 of the turn of axis 4 on axis 1 (see :func:`add_answer`),
+#: at this index of its 16 values (the seed's q1, else 0), and at CW_FOUND 1 once the pose has
+#: such a continuum; the rest is the turn's scratch. The entry MAT_WALK: a walk's point and the one
+#: before it (:func:`_walked`).
+CW_REF = 12
+CW_FOUND = 13
+CW_SHOULDER = 14  # (1 once a solution on the shoulder set was added: see :func:`floor_shoulder`)
+#: Models that deviate from the idealised one: the starts already followed to the exact model in
+#: this pose and what became of them (see :func:`_tried`), MEMO_SIZE of them (a ring, two per
+#: 4 x 4 entry of the stack from index MAT_MEMO on; their count in the entry MAT_MEMO_N).
+MEMO_SIZE = 64
+MEMO_TOL = 1e-6  # (rad; 1e-9 and 1e-6 gave the same solutions over 36,000 poses of six robots)
+#: ... and a start farther than this (relative to the robot's size) from meeting the pose is not
+#: followed: a candidate of the idealised model misses the exact one by about the deviation, so
+#: such a start is no candidate's (a wrong branch; its polish wanders 30 clamped steps, one
+#: 0.1 rad at a time). Measured over 36,000 poses of six robots, 0.005 lost no solution either.
+START_REACH = 0.05
+#: ... and its polish gives up when the error stalls for this many Newton steps (see fk.polish;
+#: 3 lost no solution either over those 36,000 poses).
+STALL_PATIENCE = 6
+#: A polish on an intermediate model of the homotopy stops once its Newton step is below this
+#: (rad; the error left is of the order of its square): the forward kinematics that would verify
+#: it is not needed there.
+HOMOTOPY_SETTLE = 1e-4
+#: The whole-turn reduced scans of this pose (:func:`reduced_scan` over REDUCED_GRID cells) that
+#: tracked a curve of their own, SCAN_MEMO of them (a ring). A later scan over the same grid
+#: whose two last points coincide with an earlier one's within SCAN_MEMO_TOL (rad, every joint)
+#: has joined its curve: the rest of its grid is that scan's (each point is Gauss-Newton from
+#: the extrapolation of the two before it), and so is the refinement of every cell whose points
+#: coincide. Near the shoulder set the candidates of one straight-wrist family, up to 0.3 rad
+#: apart in q1, each track the same two sheets (a rounded 45 deg robot: 26 scans of 4 curves).
+SCAN_MEMO = 16
+SCAN_MEMO_TOL = 1e-9
+SCAN_HEAD = 5  # j, v0, v1, m, closed; then per grid point its six joints, r and |e|
+SCAN_SLOT = SCAN_HEAD + 8 * (REDUCED_GRID + 1)
+MAT_MEMO = 9
+MAT_MEMO_N = MAT_MEMO + MEMO_SIZE // 2
+NMATS = MAT_MEMO_N + 1
+_W, WORK_SIZE = _offsets(
+    MATS=NMATS * 16, P=3, A=3, TH=10, Q6=6, QQ=6,
+    BLO=NBRACKETS, BHI=NBRACKETS, BSURE=NBRACKETS, FOUND=REFINE_GRID + 2,
+    BCOEF=NBRACKETS * NCOEF, CAST=NCOEF, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP, NB=1,
+    SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES, FAM=4 * NFAMILIES, NFAM=1, PAIR=2 * (SCAN_GRID + 1),
+    RSCAN=SCAN_MEMO * SCAN_SLOT, NRSCAN=1, SDIP=2 * SHOULDER_DIPS, NSDIP=1,
+)
+W_MATS, W_P, W_A, W_TH, W_Q6, W_QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"], _W["QQ"]
+W_BLO, W_BHI, W_BSURE, W_FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
+W_BCOEF, W_CAST, W_ISO, W_ROOTS = _W["BCOEF"], _W["CAST"], _W["ISO"], _W["ROOTS"]
+W_NB, W_SCAN, W_SUB = _W["NB"], _W["SCAN"], _W["SUB"]
+NTH = 10  # the arm's cosines and sines, theta5, and O4 (see :func:`fold_gap`)
+W_FAM, W_NFAM, W_PAIR = _W["FAM"], _W["NFAM"], _W["PAIR"]
+W_RSCAN, W_NRSCAN = _W["RSCAN"], _W["NRSCAN"]
+W_SDIP, W_NSDIP = _W["SDIP"], _W["NSDIP"]
+
+
+# the one angle wrap, to (-pi, pi], and the exact reduction under it (ik7r.geometry.rotations)
+shared(rotations.remainder_2pi_below_2_26)
+remainder_2pi = shared(rotations.remainder_2pi)
+wrap = shared(rotations.wrap)

@@ -1,0 +1,401 @@
+"""The gap functions the scans search: scalar, continuous on an arm branch, zero at a solution.
+
+The bend gap in theta5 (``bend_gap``: the bend the arm's frame asks for, minus theta5), the
+shoulder gap in theta1 (``shoulder_gap``, where the line of virtual centres passes near axis 1),
+and the fold gap near the fully bent wrist of a (nearly) 45 deg twist (``fold_gap``, in
+``sw = sin(theta5 / 2)`` scaled, finite where the virtual centre runs off to infinity); ``gap``
+picks one by its kind, ``gap_root`` and ``gap_min`` refine a sign change and a dip, and
+``branch_end`` finds where an arm branch stops reaching.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import params as L
+from .arm import arm_cs, arm_params, arm_reach, shoulder_angle
+from .constants import DIP_EARLY, FOLD_AXIS_CLAMP, FOLD_AXIS_NEAR, FOLD_BELOW, FOLD_SPAN, SCAN_TINY
+from .jit import njit
+from .poly import brent_next, brent_start, brent_take, illinois_step, secant_point
+from .singular import d_near_range, u_fold
+from .wrist import theta5_cs_of_d
+
+
+@njit
+def _bend_centre(t5, p, a, K, t1_hint=0.0, in_plane=False):
+    """The virtual centre of the wrist bent by ``t5`` >= 0 (as :func:`bend_gap` takes it, with
+    ``t1_hint``, ``in_plane``): (x, d, px, py, pz, ok), ``x = sin(beta) sin(t5 / 2)``, ``d`` the
+    virtual offset; ok is False at the fold of a 45 deg twist (the centre is at infinity)."""
+    x = K[L.SB] * math.sin(0.5 * t5)
+    h = 1.0 - 2.0 * x * x  # cos(phi / 2)
+    if h < 1e-9:
+        return x, 0.0, 0.0, 0.0, 0.0, False
+    d = K[L.KW] / h
+    t = K[L.D7] + d
+    px = p[0] - t * a[0]
+    py = p[1] - t * a[1]
+    if in_plane:
+        ch, sh = math.cos(t1_hint), math.sin(t1_hint)
+        rho = ch * px + sh * py
+        px, py = rho * ch, rho * sh
+    return x, d, px, py, p[2] - t * a[2], True
+
+
+@njit
+def bend_gap(t5, p, a, front, elbow, K, th, t1_hint=0.0, in_plane=False, slack=1e-12):
+    """The bend gap at wrist angle ``t5`` >= 0 on the arm branch (``front``, ``elbow``: +-1):
+    the angle between axis 4 of the arm that places the virtual centre of that bend and the
+    tool's approach ``a``, minus the wrist's bend ``phi(t5)``; zero exactly at solutions.
+    Unlike the residual polynomial it is computed from t5 itself, with angles from atan2: it
+    stays accurate (to rounding of the angles) where d is flat in t5 (straight or fully bent
+    wrist) and where two roots of the polynomial merge within its rounding. Writes the arm's
+    DH cosines and sines into ``th`` (as :func:`arm_from_psi`). Returns (gap, ok); ok is False
+    where the branch does not reach. ``t1_hint``: theta1 when the virtual centre is on axis 1;
+    ``th[6]`` gets t5. ``in_plane``: theta1 is ``t1_hint`` (the virtual centre is taken in
+    that arm plane: near axis 1 its direction from the axis is rounding noise). ``slack``:
+    how far the arm may miss the centre (:func:`ik7r._kernels.arm.arm_ik`; the arm's cosines and
+    sines come from :func:`ik7r._kernels.arm.arm_cs`, without a trigonometric call)."""
+    x, d, px, py, pz, ok = _bend_centre(t5, p, a, K, t1_hint, in_plane)
+    if not ok:
+        return 0.0, False  # the fold of a 45 deg twist: the virtual centre is at infinity
+    c1, s1, c2, s2, c3, s3, ok = arm_cs(px, py, pz, K[L.D4] + d, front, elbow, t1_hint, K, slack)
+    if not ok:
+        return 0.0, False
+    th[0], th[1], th[2], th[3], th[4], th[5], th[6] = c1, c2, c3, s1, s2, s3, t5
+    cp = c2 * c3 - s2 * s3  # psi = theta2 + theta3
+    sp = s2 * c3 + c2 * s3
+    e3 = K[L.EPS3]
+    zx = e3 * c1 * sp  # axis 4 (frame 0)
+    zy = e3 * s1 * sp
+    zz = -K[L.EPS1] * e3 * cp
+    cx = zy * a[2] - zz * a[1]
+    cy = zz * a[0] - zx * a[2]
+    cz = zx * a[1] - zy * a[0]
+    gamma = math.atan2(math.sqrt(cx * cx + cy * cy + cz * cz), zx * a[0] + zy * a[1] + zz * a[2])
+    return gamma - 4.0 * math.asin(x), True
+
+
+@njit
+def shoulder_gap(t1, p, a, elbow, K, th, slack=1e-12):
+    """The bend gap as a function of theta1 (DH) on the elbow branch ``elbow`` (+-1), for a robot
+    without lateral offset: the virtual centre is where the line ``p - t a`` meets the arm's
+    plane at theta1, which fixes d and so theta5. Near the shoulder singular set (that line
+    passes close to axis 1) theta1 swings fast with d, and the residual polynomial's roots
+    there merge within its rounding; in theta1 they stay apart. Returns (gap, ok); ``slack`` as
+    :func:`bend_gap` takes it."""
+    t5, front, ok = _shoulder_bend(t1, p, a, K)
+    if not ok:
+        return 0.0, False
+    return bend_gap(t5, p, a, front, elbow, K, th, t1, True, slack)
+
+
+@njit
+def _shoulder_bend(t1, p, a, K):
+    """The wrist angle and shoulder branch :func:`shoulder_gap` takes at theta1 = ``t1``:
+    (t5, front, ok); ok is False where the arm's plane misses the line of virtual centres in
+    the range of d."""
+    c1 = math.cos(t1)
+    s1 = math.sin(t1)
+    an = -s1 * a[0] + c1 * a[1]
+    if abs(an) < 1e-12:
+        return 0.0, 0.0, False
+    d = (-s1 * p[0] + c1 * p[1]) / an - K[L.D7]
+    if not (K[L.DMIN] <= d <= K[L.DMAX]):
+        if K[L.DEVIATION] == 0.0 or not d_near_range(d, K):
+            return 0.0, 0.0, False
+        d = min(K[L.DMAX], max(K[L.DMIN], d))
+    t5 = theta5_cs_of_d(d, K)[0]
+    t = K[L.D7] + d
+    rho = c1 * (p[0] - t * a[0]) + s1 * (p[1] - t * a[1])
+    return t5, 1.0 if rho >= 0.0 else -1.0, True
+
+
+@njit
+def _gap_reaches(t, p, a, front, elbow, K, th):
+    """Whether the arm branch of :func:`gap` reaches at ``t`` (its ``ok``, the same to the last
+    bit), at a fraction of its cost for the bend gaps (no angle of the arm, no gap): the
+    bisections for the ends of arm branches in :func:`_scan_piece` ask only this."""
+    if abs(front) == 2.0 or front == 3.0:
+        return gap(t, p, a, front, elbow, K, th)[1]
+    t5, t1, in_plane = t, 0.0, front == 0.0
+    if in_plane:
+        t1 = t
+        t5, front, ok = _shoulder_bend(t1, p, a, K)
+        if not ok:
+            return False
+    x, d, px, py, pz, ok = _bend_centre(t5, p, a, K, t1, in_plane)
+    return ok and arm_reach(px, py, pz, K[L.D4] + d, front, t1, K)[4]
+
+
+@njit
+def gap(t, p, a, front, elbow, K, th):
+    """The bend gap of :func:`bend_gap` at theta5 = ``t`` on the branch (front, elbow), with
+    ``front`` 0 that of :func:`shoulder_gap` at theta1 = ``t`` on the elbow branch, with
+    ``front`` +-2 the fold gap of :func:`fold_gap` at ``sw = t`` on the branch (front / 2, elbow),
+    with ``front`` 3 that of :func:`_fold_axis_gap` at theta1 = ``t``."""
+    if abs(front) == 2.0:
+        return fold_gap(t, p, a, 0.5 * front, elbow, K, th)
+    if front == 3.0:
+        return _fold_axis_gap(t, p, a, elbow, K, th)
+    if front != 0.0:
+        return bend_gap(t, p, a, front, elbow, K, th)
+    return shoulder_gap(t, p, a, elbow, K, th)
+
+
+@njit
+def gap_root(t0, t1, g0, g1, p, a, front, elbow, K, th):
+    """The root of the bend gap bracketed by [t0, t1] (``g0``, ``g1`` of opposite signs): the
+    Illinois steps of :func:`ik7r._kernels.poly.illinois_step`, to the last bits."""
+    side = 0
+    for _ in range(200):
+        t = secant_point(t0, t1, g0, g1)
+        g, ok = gap(t, p, a, front, elbow, K, th)
+        if not ok or g == 0.0:
+            return t
+        t0, t1, g0, g1, side, done = illinois_step(t0, t1, g0, g1, side, t, g)
+        if done:
+            break
+    return t0 if abs(g0) < abs(g1) else t1
+
+
+@njit
+def gap_min(t0, t1, p, a, front, elbow, K, th, floor=0.0):
+    """The least |bend gap| in [t0, t1] (Brent's minimiser); (t, |gap|, gap, ok) with the gap
+    and its ``ok`` at t (|gap| is inf where not ok). ``floor`` > 0: stop once the bracket is
+    below DIP_EARLY of [t0, t1] with the least |gap| so far at or above ``floor`` (the minimum
+    is then only known to be about that high). (The value at the least point is kept from the
+    search, not evaluated again; ``th`` holds the arm of the last point evaluated.)"""
+    st, t = brent_start(t0, t1)
+    early = DIP_EARLY * (t1 - t0)
+    fx = 0.0
+    okx = False
+    for _ in range(200):
+        f, ok = gap(t, p, a, front, elbow, K, th)
+        st = brent_take(st, t, abs(f) if ok else np.inf)
+        if st[2] == t:
+            fx, okx = f, ok
+        if floor > 0.0 and st[1] - st[0] < early and st[5] >= floor:
+            break
+        st, t, done = brent_next(st)
+        if done:
+            break
+    return st[2], abs(fx) if okx else np.inf, fx, okx
+
+
+@njit
+def branch_end(t_in, t_out, p, a, front, elbow, K, th):
+    """The end of the arm branch (``front``, ``elbow``) between ``t_in``, where its gap is
+    defined, and ``t_out``, where it is not: bisection to the last bit (:func:`_gap_reaches`);
+    returns the last point found on the defined side."""
+    for _ in range(60):
+        tm = 0.5 * (t_in + t_out)
+        if tm == t_in or tm == t_out:
+            break
+        if _gap_reaches(tm, p, a, front, elbow, K, th):
+            t_in = tm
+        else:
+            t_out = tm
+    return t_in
+
+
+@njit
+def tiny_piece(ta, tb):
+    """Whether [ta, tb] is narrower than SCAN_TINY (relative to 1 + |ta|): not gridded."""
+    return tb - ta <= SCAN_TINY * (1.0 + abs(ta))
+
+
+@njit
+def fold_gap(sw, p, a, front, elbow, K, th, t1_in=0.0, in_plane=False):
+    """The fold gap at ``u = cos(2 beta) + sw^2`` (``sw^2 = 2 sin^2(beta) sin^2(eps / 2)``, eps =
+    pi - theta5: ``sw >= 0`` grows with the distance from the fully bent wrist) on the arm
+    branch (``front``, ``elbow``: +-1); zero exactly at solutions. Finite at the fold, where the
+    virtual centre ``P = O - (KW / u) a`` (``O = p - d7 a``, the centre of joint 6) is at
+    infinity for a 45 deg twist and the bend gap cannot be evaluated.
+
+    The arm that places P at distance ``L = d4 + KW / u`` along axis 4 is computed in coordinates
+    scaled by u (``u P`` and ``u L`` stay finite), with the elbow's angles from half-angle forms
+    whose small terms are computed as such (``|X|^2 - |v|^2`` expanded, its leading terms cancelled
+    by hand): it stays accurate to rounding as u goes to 0, where the two elbow branches keep
+    distinct theta2 and theta3. For that arm, the wrist's condition (axis 4 at the bend ``phi(u)``
+    from the approach ``a``) is equivalent to ``|O - O4| = 2 |KW|`` (the mirror wrist puts O4 and O
+    symmetric about the bisector of axes 4 and 7), a distance of points that both stay finite:
+    the gap is ``|O - O4| / (2 |KW|) - 1``. Writes DH cosines and sines of theta1..3 into
+    ``th[:6]`` (as :func:`arm_from_psi`), theta5 (DH, in [0, pi]) into ``th[6]`` and O4 (frame 0)
+    into ``th[7:10]``. Returns (gap, ok); ok is False where the branch does not reach.
+    ``in_plane``: theta1 is ``t1_in`` and the scaled virtual centre is taken in that arm plane
+    (``front`` unused; see :func:`_fold_axis_gap`)."""
+    ok, half, psi0, gamma, t20, t1, ox, oy, oz = _fold_arm(sw, p, a, front, K, t1_in, in_plane)
+    if not ok:
+        return 0.0, False
+    return _fold_branch(elbow, half, psi0, gamma, t20, math.cos(t1), math.sin(t1), ox, oy, oz,
+                        sw, K, th)
+
+
+@njit
+def fold_gap_pair(sw, p, a, front, K, th):
+    """:func:`fold_gap` at ``sw`` on both elbow branches of the shoulder branch ``front`` (+-1):
+    (gap, ok) of elbow +1, then of elbow -1, from one evaluation of the part they share (the
+    centre, theta1, the elbow's half angle: about a third of a gap's transcendental calls). ``th``
+    holds the arm of elbow -1."""
+    ok, half, psi0, gamma, t20, t1, ox, oy, oz = _fold_arm(sw, p, a, front, K, 0.0, False)
+    if not ok:
+        return 0.0, False, 0.0, False
+    c1, s1 = math.cos(t1), math.sin(t1)
+    gp, okp = _fold_branch(1.0, half, psi0, gamma, t20, c1, s1, ox, oy, oz, sw, K, th)
+    gm, okm = _fold_branch(-1.0, half, psi0, gamma, t20, c1, s1, ox, oy, oz, sw, K, th)
+    return gp, okp, gm, okm
+
+
+@njit
+def _fold_arm(sw, p, a, front, K, t1_in, in_plane):
+    """The part of :func:`fold_gap` its two elbow branches share: (ok, half, psi0, gamma, t20, t1,
+    ox, oy, oz): half the elbow's angle, psi = theta2 + theta3 and theta2 before the elbow's sign
+    (``psi0 + 2 elbow half``, ``t20 - elbow gamma``), theta1 (DH) and O, the centre of joint 6."""
+    u = u_fold(K) + sw * abs(sw)  # (sw < 0: u below the fold, scanned for deviating models)
+    kw = K[L.KW]
+    a1, a2, a3, b, e1, e3, scale = arm_params(K)
+    d1 = K[L.D1]
+    d4 = K[L.D4]
+    d7 = K[L.D7]
+    ox = p[0] - d7 * a[0]
+    oy = p[1] - d7 * a[1]
+    oz = p[2] - d7 * a[2]
+    hx = u * ox - kw * a[0]  # u P
+    hy = u * oy - kw * a[1]
+    hz = u * oz - kw * a[2]
+    lh = u * d4 + kw  # u L
+    bp = -e1 * b
+    if in_plane:
+        t1 = t1_in
+        rho = math.cos(t1) * hx + math.sin(t1) * hy  # u rho (signed: the branch is theta1's)
+    else:
+        r2 = hx * hx + hy * hy
+        if r2 <= (1e-13 * scale * u) ** 2 + (1e-13 * kw) ** 2:
+            # the scaled virtual centre (nearly) on axis 1: _fold_axis_gap's
+            return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        disc = r2 - (u * b) ** 2
+        if disc < -(1e-12 * scale * u) ** 2:
+            return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        rho = front * math.sqrt(max(disc, 0.0))  # u rho
+        t1 = shoulder_angle(rho, hx, hy, u * bp)
+    xx = rho - u * a1  # u X: the centre in the arm plane, from the shoulder
+    xy = e1 * (hz - u * d1)
+    nx = math.hypot(xx, xy)
+    nv = math.hypot(u * a3, lh)  # u |v|, v = (a3, -eps3 L)
+    if nx == 0.0 or nv == 0.0:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    # |X|^2 - |v|^2 = D / u with the terms of order 1 / u^2 cancelled exactly
+    dd = (u * (ox * ox + oy * oy + oz * oz - b * b + a1 * a1 + d1 * d1 - a3 * a3 - d4 * d4)
+          - 2.0 * kw * (ox * a[0] + oy * a[1] + oz * a[2] + d4) - 2.0 * (a1 * rho + d1 * hz))
+    su = 1.0 if u >= 0.0 else -1.0  # (u < 0: the scaled vectors point the other way)
+    dt = su * dd / (nx + nv)  # |X| - |v|
+    s2 = a2 * a2 - dt * dt
+    if s2 < -1e-12 * a2 * a2:
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0  # the elbow does not reach
+    root = math.sqrt(max(s2, 0.0) / (nx * nv))
+    half = math.asin(min(1.0, 0.5 * abs(u) * root))  # half the angle between X and R(psi) v
+    psi0 = math.atan2(xy, xx) - math.atan2(-e3 * lh, u * a3)
+    # theta2: the angle at the shoulder between X and the upper arm (its sine from the law of
+    # sines, both finite as u goes to 0)
+    gamma = math.atan2(nv * root * math.cos(half) / a2, (su * dd + abs(u) * a2 * a2) / (2.0 * a2 * nx))
+    t20 = math.atan2(su * xy, su * xx)  # (a2 > 0: ik7r.robot.family.frame_dh)
+    return True, half, psi0, gamma, t20, t1, ox, oy, oz
+
+
+@njit
+def _fold_branch(elbow, half, psi0, gamma, t20, c1, s1, ox, oy, oz, sw, K, th):
+    """The elbow branch ``elbow`` of :func:`fold_gap` from its shared part (:func:`_fold_arm`;
+    ``c1``, ``s1``: theta1's cosine and sine): the arm into ``th``, the gap."""
+    a1, a2, a3, b, e1, e3, scale = arm_params(K)
+    d1 = K[L.D1]
+    d4 = K[L.D4]
+    bp = -e1 * b
+    psi = psi0 + 2.0 * elbow * half
+    t2 = t20 - elbow * gamma
+    c2, s2_ = math.cos(t2), math.sin(t2)
+    cp, sp = math.cos(psi), math.sin(psi)
+    th[0], th[1], th[2] = c1, c2, cp * c2 + sp * s2_
+    th[3], th[4], th[5] = s1, s2_, sp * c2 - cp * s2_
+    th[6] = math.pi - fold_eps(sw, K)
+    # O4 = E + R(psi) (a3, -eps3 d4) in the arm plane, then in frame 0
+    x4 = a2 * c2 + a3 * cp + e3 * d4 * sp
+    y4 = a2 * s2_ + a3 * sp - e3 * d4 * cp
+    r4 = x4 + a1
+    th[7] = r4 * c1 - bp * s1
+    th[8] = r4 * s1 + bp * c1
+    th[9] = e1 * y4 + d1
+    dx = ox - th[7]
+    dy = oy - th[8]
+    dz = oz - th[9]
+    return math.sqrt(dx * dx + dy * dy + dz * dz) / (2.0 * abs(K[L.KW])) - 1.0, True
+
+
+@njit
+def fold_eps(sw, K):
+    """``eps = pi - theta5`` (>= 0) of the wrist at ``u = cos(2 beta) + sw^2``: ``sw =
+    sqrt(2) |sin(beta)| sin(eps / 2)`` (u is quadratic in eps, sw linear); 0 for ``sw < 0``
+    (theta5 clamped to pi)."""
+    return 2.0 * math.asin(min(1.0, max(sw, 0.0) / (math.sqrt(2.0) * abs(K[L.SB]))))
+
+
+@njit
+def _fold_span_u(K):
+    """The span of ``u - cos(2 beta)`` the fold scan covers (see :func:`scan_fold`)."""
+    lo = -FOLD_BELOW * (1.0 - u_fold(K)) if K[L.DEVIATION] > 0.0 else 0.0
+    return lo, FOLD_SPAN * (1.0 + 1e-3) ** 2
+
+
+@njit
+def fold_near_axis(p, a, K):
+    """Whether the scaled virtual centre ``u P = u O - KW a`` (O the centre of joint 6) of the
+    fully bent wrist (u = cos(2 beta)) lies within FOLD_AXIS_NEAR (relative to ``KW + |u|
+    scale``) of axis 1: the approach (nearly) parallel to axis 1, where theta1 of the fold gap's
+    arm swings next to the fold (and at the fold itself, with a vertical approach, is fixed not
+    by the direction of P but by the position of O4)."""
+    u = u_fold(K)
+    d7 = K[L.D7]
+    hx = u * (p[0] - d7 * a[0]) - K[L.KW] * a[0]
+    hy = u * (p[1] - d7 * a[1]) - K[L.KW] * a[1]
+    return math.hypot(hx, hy) <= FOLD_AXIS_NEAR * (abs(K[L.KW]) + abs(u) * K[L.SCALE])
+
+
+@njit
+def fold_axis_sw(t1, p, a, K):
+    """``sw`` (:func:`fold_gap`) of the u at which the scaled virtual centre ``u O - KW a`` lies in
+    the arm plane at theta1 (DH; the plane's offset scaled by u too): the plane condition is
+    linear in u. Returns (sw, ok); ok is False outside the fold span."""
+    c1 = math.cos(t1)
+    s1 = math.sin(t1)
+    d7 = K[L.D7]
+    an = -s1 * a[0] + c1 * a[1]
+    on = -s1 * (p[0] - d7 * a[0]) + c1 * (p[1] - d7 * a[1]) + K[L.EPS1] * K[L.B]
+    u = 0.0
+    if an != 0.0:
+        if on == 0.0:
+            return 0.0, False
+        u = K[L.KW] * an / on
+    du = u - u_fold(K)
+    lo, hi = _fold_span_u(K)
+    if lo == 0.0 and -FOLD_AXIS_CLAMP <= du < 0.0:
+        # just beyond the fold (u is kw an / on, an the approach's rounding when it is along axis
+        # 1): the fold itself, where the solutions of a pose made there lie
+        du = 0.0
+    if not lo <= du <= hi:
+        return 0.0, False
+    return (math.sqrt(du) if du >= 0.0 else -math.sqrt(-du)), True
+
+
+@njit
+def _fold_axis_gap(t1, p, a, elbow, K, th):
+    """The fold gap (:func:`fold_gap`) as a function of theta1 (DH) on the elbow branch
+    ``elbow``: u from the plane condition (:func:`fold_axis_sw`), the arm in that plane. Where
+    the approach is (nearly) parallel to axis 1 the scaled virtual centre is (nearly) on it near
+    the fold, and theta1 of the fold gap's arm swings fast with u (at the fold itself a vertical
+    approach leaves theta1 to the position of O4: the pose's solutions there form no branch of
+    u at all); in theta1 they stay apart. Returns (gap, ok)."""
+    sw, ok = fold_axis_sw(t1, p, a, K)
+    if not ok:
+        return 0.0, False
+    return fold_gap(sw, p, a, 1.0, elbow, K, th, t1, True)

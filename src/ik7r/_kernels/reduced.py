@@ -1,0 +1,648 @@
+"""The exact model's reduced residual, for robots that deviate from the idealised family.
+
+With one joint held (``j`` at ``v``) the five others are fitted by Gauss-Newton to the pose
+(``_reduced_at``): ``det [J_other | e]`` is a signed scalar, continuous in ``v``, zero where
+the fit is a solution. ``reduced_scan`` tracks it over a range on a grid and refines its sign
+changes and dips; on it stand the straight-wrist family scan (``straight_family``), the other
+wrist of a solution (``other_wrists``) and the partners of nearly singular solutions
+(``partners``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import params as L
+from .answers import accept, add_answer, apart, bend, theta5
+from .constants import (
+    CLOSED_TOL,
+    DIP_NEAR,
+    DIP_SHARP,
+    MAT_M,
+    MAT_Q,
+    MAT_R07,
+    MAT_WR,
+    NFAMILIES,
+    NTH,
+    OTHER_WRIST_ARM,
+    PARTNER_CELLS,
+    PARTNER_REACH,
+    PARTNER_SIGMA,
+    PARTNER_STEP,
+    REDUCED_GRID,
+    REDUCED_ITERS,
+    REDUCED_ROOT_TOL,
+    REDUCED_SETTLE,
+    SCAN_HEAD,
+    SCAN_MEMO,
+    SCAN_MEMO_TOL,
+    SCAN_SLOT,
+    STRAIGHT_DEVIATING,
+    TWO_PI,
+    W_A,
+    W_FAM,
+    W_NFAM,
+    W_NRSCAN,
+    W_P,
+    W_QQ,
+    W_RSCAN,
+    W_TH,
+    wrap,
+)
+from .fk import dh_angle, fk_jacobian, fk_user, pose_error, residual, user_angle
+from .jit import njit
+from .joints import other_wrist
+from .poly import brent_next, brent_start, brent_take, illinois_step, secant_point
+from .singular import turn_scanned
+
+
+@njit(allocates=True)
+def straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False):
+    """Every exact solution near the straight-wrist family of the arm ``q[:3]`` (user angles) on a
+    model that deviates from the idealised one. On the idealised model a straight wrist leaves
+    only ``s4 q4 + s7 q7`` defined (a circle of solutions, the split free); the deviation breaks
+    the circle into isolated solutions, spread over the whole turn of the split, with the arm
+    and q5 moved by about the deviation. With q4 fixed the five other joints are regular there,
+    so these solutions are the zeros of one function of q4 (:func:`reduced_scan`), found by a
+    scan of the whole turn. ``Q``: the wrist target of the arm (its angle about z is the sum).
+    The arms already scanned for this pose are skipped.
+
+    Away from the shoulder set the least-squares point as q4 turns is one closed curve (q5
+    about ``delta cos(q4 - phi)``, crossing zero twice), which the mirror of the wrist (theta4
+    and theta7 half a turn on, theta5 of the other sign: the same wrist to first order in
+    theta5) maps onto itself. Where the arm is near the shoulder set (``sheets``) q1 is nearly
+    free as well and the curve splits into two sheets of one sign of q5 each, one the other's
+    mirror, with q1 sweeping fast where q5 grows: a scan tracks one of them (and may jump to
+    the other where q1 swings), so the other sheet is scanned too, from the mirror of the
+    first one's least bent point (on the IRB 5400 the line of virtual centres 0.012 mm from
+    axis 1 gave 12 solutions, four on each sheet; one was missed). There a sheet need not
+    close over the turn either (it can drift onto the other before it comes back), so the last
+    half turn of each is tracked back from its start too (generated(2) of the tests, a pair
+    0.09 rad apart in q4 on either side of the start)."""
+    s4 = K[L.SIGN + 3]
+    s7 = K[L.SIGN + 6]
+    total = math.atan2(Q[1, 0], Q[0, 0]) - K[L.THETA_OFFSET4] - K[L.THETA_OFFSET7]
+    nf = int(ws[W_NFAM])
+    for k in range(min(nf, NFAMILIES)):
+        f = ws[W_FAM + 4 * k:W_FAM + 4 * k + 4]
+        far = abs(wrap(f[3] - total))
+        for i in range(3):
+            far = max(far, abs(wrap(f[i] - q[i])))
+        if far < 1e-2:
+            return count
+    if nf < NFAMILIES:
+        f = ws[W_FAM + 4 * nf:W_FAM + 4 * nf + 4]
+        for i in range(3):
+            f[i] = q[i]
+        f[3] = total
+        ws[W_NFAM] = nf + 1
+    start = np.empty(6)
+    for i in range(3):
+        start[i] = q[i]
+    start[3] = -math.pi
+    start[4] = user_angle(4, 0.0, K)
+    start[5] = s7 * (total + s4 * math.pi)
+    back = start.copy()
+    count = reduced_scan(start, 3, -math.pi, math.pi, REDUCED_GRID, Td, K, out, count, ws,
+                          mats)
+    if not sheets:
+        return count
+    # near the shoulder set a sheet need not close over the turn (q1 drifts onto the other
+    # sheet before the scan comes back): its last half turn is tracked back from the start too
+    count = reduced_scan(back, 3, math.pi, 0.0, REDUCED_GRID // 2, Td, K, out, count, ws, mats)
+    # the other sheet, from the mirror of the scanned one's least bent point: theta4 and theta7
+    # half a turn on, theta5 of the other sign (the same wrist to first order in theta5)
+    start[3] = wrap(start[3] + s4 * math.pi)
+    start[4] = user_angle(4, -dh_angle(start, K, 4), K)
+    start[5] = wrap(start[5] + s7 * math.pi)
+    for i in range(6):
+        back[i] = start[i]
+    count = reduced_scan(start, 3, start[3], start[3] + TWO_PI, REDUCED_GRID, Td, K, out, count,
+                          ws, mats)
+    return reduced_scan(back, 3, back[3], back[3] - math.pi, REDUCED_GRID // 2, Td, K, out, count,
+                         ws, mats)
+
+
+@njit
+def _pivot(A, k):
+    """The row of partial pivoting in column ``k`` of ``A`` (6, 6): the first of rows ``k`` .. 5
+    with the largest ``abs(A[i, k])``."""
+    p = k
+    for i in range(k + 1, 6):
+        if abs(A[i, k]) > abs(A[p, k]):
+            p = i
+    return p
+
+
+@njit
+def _det6(A):
+    """Determinant of ``A`` (6, 6; overwritten), by elimination with partial pivoting."""
+    det = 1.0
+    for k in range(6):
+        p = _pivot(A, k)
+        if A[p, k] == 0.0:
+            return 0.0
+        if p != k:
+            for c in range(6):
+                A[k, c], A[p, c] = A[p, c], A[k, c]
+            det = -det
+        det *= A[k, k]
+        for i in range(k + 1, 6):
+            f = A[i, k] / A[k, k]
+            for c in range(k, 6):
+                A[i, c] -= f * A[k, c]
+    return det
+
+
+@njit
+def _reduced_at(q, j, v, Td, K, T, J, A, e, g, dq, ZO):
+    """The reduced residual at ``q[j] = v``: Gauss-Newton on the five other joints of ``q`` (from
+    their values in ``q``, updated in place) for the least-squares pose error, then
+    ``det [J_other | e]`` (position rows over the robot's size): a signed scalar, continuous in
+    ``v``, zero exactly where the least-squares point is a solution (``e`` is orthogonal to the
+    five columns there, so the determinant is ``e`` along their normal). Gauss-Newton stops
+    before a step below REDUCED_SETTLE (rad): the determinant does not change when ``e`` takes
+    the step's combination of the other columns (the residual the step leaves, to first order),
+    so the point it would reach is worth no further forward kinematics; its residual
+    ``e - J_other dq`` gives ``|e|``. Returns (r, |e|, ok); ``T`` is left at the forward
+    kinematics of ``q``."""
+    q[j] = v
+    w = 1.0 / K[L.SCALE]
+    ok = True
+    for it in range(REDUCED_ITERS + 1):
+        fk_jacobian(q, K, T, J, ZO)
+        pose_error(T, Td, e, ZO[:3, :3])
+        for r in range(3):
+            e[r] *= w
+            for c in range(6):
+                J[r, c] *= w
+        if it == REDUCED_ITERS:
+            break
+        if _least_squares_step(J, e, j, A, g, dq) < 1e-15:
+            ok = False
+            break
+        big = 0.0
+        for i in range(6):
+            if i != j:
+                big = max(big, abs(dq[i]))
+        if big < REDUCED_SETTLE:
+            for r in range(6):  # (the residual the step would leave; dq[j] is 0)
+                s = 0.0
+                for c in range(6):
+                    if c != j:
+                        s += J[r, c] * dq[c]
+                e[r] -= s
+            break
+        f = 1.0 if big <= 0.1 else 0.1 / big
+        for i in range(6):
+            if i != j:
+                q[i] += f * dq[i]
+    norm = 0.0
+    for r in range(6):
+        norm += e[r] * e[r]
+        for c in range(6):
+            A[r, c] = e[r] if c == j else J[r, c]
+    if not (norm < 1e300):
+        return 0.0, math.inf, False
+    return _det6(A), math.sqrt(norm), ok
+
+
+@njit
+def _least_squares_step(J, e, j, A, g, dq):
+    """The Gauss-Newton step ``dq`` (6,) in the five joints other than ``j`` for the error ``e``
+    with the Jacobian ``J`` (6, 6): the least-squares solution of ``J_o dq_o = e``, by the
+    normal equations, which are symmetric and positive definite, so by Cholesky (half the work
+    of an elimination with pivoting, the reduced residual's largest cost); ``dq[j]`` = 0.
+    Returns the least pivot of the factorisation relative to the largest diagonal entry (0
+    where it is not positive definite: a singular Jacobian). ``A`` (6, 6) and ``g`` (6,) are
+    work arrays."""
+    big = 0.0
+    for a_ in range(5):
+        ca = a_ if a_ < j else a_ + 1
+        s = 0.0
+        for r in range(6):
+            s += J[r, ca] * e[r]
+        g[a_] = s
+        for b_ in range(a_ + 1):
+            cb = b_ if b_ < j else b_ + 1
+            s = 0.0
+            for r in range(6):
+                s += J[r, ca] * J[r, cb]
+            A[a_, b_] = s
+        big = max(big, A[a_, a_])
+    if not big > 0.0:
+        return 0.0
+    small = big
+    for k in range(5):  # (A = L L^T, L in the lower triangle)
+        d = A[k, k]
+        for m in range(k):
+            d -= A[k, m] * A[k, m]
+        if not d > 0.0:
+            return 0.0
+        small = min(small, d)
+        lk = math.sqrt(d)
+        A[k, k] = lk
+        for i in range(k + 1, 5):
+            s = A[i, k]
+            for m in range(k):
+                s -= A[i, m] * A[k, m]
+            A[i, k] = s / lk
+    for i in range(5):  # L y = g
+        s = g[i]
+        for m in range(i):
+            s -= A[i, m] * g[m]
+        g[i] = s / A[i, i]
+    for i in range(4, -1, -1):  # L^T x = y
+        s = g[i]
+        for m in range(i + 1, 5):
+            s -= A[m, i] * g[m]
+        g[i] = s / A[i, i]
+    dq[j] = 0.0
+    for a_ in range(5):
+        dq[a_ if a_ < j else a_ + 1] = g[a_]
+    return small / big
+
+
+@njit
+def dips_to_zero(r0, r1, r2):
+    """Whether the parabola through three equally spaced values of one sign (``r1`` the least in
+    magnitude) comes down to half of ``r1`` or beyond zero between them, or ``r1`` is below
+    DIP_SHARP of both neighbours: a dip that may hide a tangency or two roots, not a shallow
+    minimum. (The parabola underestimates a dip whose cell holds two close roots off its middle:
+    one of the IRB 5400 at the shoulder set came down to 1.8e-8 between samples 9e-7, 2.5e-8 and
+    6e-7, while the residual's two roots 0.01 rad apart lie 0.01 rad from the least sample.)"""
+    if abs(r1) < DIP_SHARP * min(abs(r0), abs(r2)):
+        return True
+    c = 0.5 * (r0 + r2) - r1
+    b = 0.5 * (r2 - r0)
+    if c == 0.0 or (c > 0.0) != (r1 > 0.0):
+        return False
+    t = -b / (2.0 * c)
+    if abs(t) > 1.0:
+        return False
+    bottom = r1 + b * t + c * t * t
+    return (bottom < 0.5 * r1) if r1 > 0.0 else (bottom > 0.5 * r1)  # (or beyond zero)
+
+
+@njit
+def _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO):
+    """Refine the root of the reduced residual bracketed by [va, vb] (``ra``, ``rb`` of opposite
+    signs) by Illinois (:func:`ik7r._kernels.poly.illinois_step`), each point Gauss-Newton from
+    the one before (``qt``, left at the root), until the residual the last step would leave is
+    below REDUCED_ROOT_TOL: closer in ``v`` is worth nothing, since ``qt`` stays up to
+    REDUCED_SETTLE from the point that step reaches (bisecting the bracket down to 1e-11 took
+    twice the reduced residuals near the shoulder set, about a sixth of a pose's)."""
+    side = 0
+    for _ in range(40):
+        v = secant_point(va, vb, ra, rb)
+        r, res, ok = _reduced_at(qt, j, v, Td, K, T, J, A, e, g, dq, ZO)
+        if not ok or r == 0.0 or res <= REDUCED_ROOT_TOL:
+            return
+        va, vb, ra, rb, side, _ = illinois_step(va, vb, ra, rb, side, v, r)
+        if abs(vb - va) <= 1e-11:
+            return  # (the polish of accept takes it to the last bits)
+
+
+@njit
+def _cell_kind(rs, es, k, kb, closed):
+    """What the reduced scan refines in its cell ``k`` (grid values ``rs`` signed, ``es`` the
+    error's norm; ``kb`` the point before ``k``, on a closed curve m - 1 for k = 0): 1 a sign
+    change, 2 a dip of ``|e|`` toward zero without one (below DIP_NEAR, or by
+    :func:`dips_to_zero`), 0 nothing."""
+    ra = rs[k]
+    rb = rs[k + 1]
+    if not (math.isfinite(ra) and math.isfinite(rb)):
+        return 0
+    if ra * rb < 0.0:
+        return 1
+    if ((0 < k or closed) and es[k] <= es[kb] and es[k] <= es[k + 1]
+            and math.isfinite(rs[kb]) and rs[kb] * ra > 0.0
+            and (es[k] < DIP_NEAR or dips_to_zero(rs[kb], ra, rb))):
+        return 2
+    return 0
+
+
+@njit
+def _scan_seen(memo, n, j, v0, v1, m, qs, kind, k, kb):
+    """Whether an earlier reduced scan of this pose (``memo``, ``n`` of them: see SCAN_MEMO)
+    over the same grid (joint ``j``, [v0, v1], ``m`` cells) refined its cell ``k`` the same
+    way (``kind``, see :func:`_cell_kind`) from the same points: ``k`` and ``k + 1`` (and
+    ``kb`` for a dip) within SCAN_MEMO_TOL of ``qs``'. Its candidates are then this cell's."""
+    for s in range(min(n, SCAN_MEMO)):
+        slot = memo[s * SCAN_SLOT:(s + 1) * SCAN_SLOT]
+        if slot[0] != j or slot[1] != v0 or slot[2] != v1 or slot[3] != m:
+            continue
+        pts = slot[SCAN_HEAD:SCAN_HEAD + 8 * (m + 1)].reshape((m + 1, 8))
+        if _cell_kind(pts[:, 6], pts[:, 7], k, kb, slot[4] != 0.0) != kind:
+            continue
+        same = apart(pts[k], qs[k]) <= SCAN_MEMO_TOL and apart(pts[k + 1], qs[k + 1]) <= SCAN_MEMO_TOL
+        if same and (kind == 1 or apart(pts[kb], qs[kb]) <= SCAN_MEMO_TOL):
+            return True
+    return False
+
+
+@njit
+def _scan_joined(memo, n, j, v0, v1, m, qs, k):
+    """The earlier reduced scan of this pose (``memo``, ``n`` of them: see SCAN_MEMO) over the
+    same grid whose points ``k - 2`` and ``k - 1`` are within SCAN_MEMO_TOL of ``qs``', or -1."""
+    for s in range(min(n, SCAN_MEMO)):
+        slot = memo[s * SCAN_SLOT:(s + 1) * SCAN_SLOT]
+        if slot[0] != j or slot[1] != v0 or slot[2] != v1 or slot[3] != m:
+            continue
+        pts = slot[SCAN_HEAD:SCAN_HEAD + 8 * (m + 1)].reshape((m + 1, 8))
+        if apart(pts[k - 2], qs[k - 2]) <= SCAN_MEMO_TOL and apart(pts[k - 1], qs[k - 1]) <= SCAN_MEMO_TOL:
+            return s
+    return -1
+
+
+@njit
+def _scan_keep(memo, n, j, v0, v1, m, qs, rs, es, closed):
+    """Record a reduced scan's grid in the ring ``memo`` as its ``n``-th (see SCAN_MEMO)."""
+    slot = memo[(n % SCAN_MEMO) * SCAN_SLOT:(n % SCAN_MEMO + 1) * SCAN_SLOT]
+    slot[0] = j
+    slot[1] = v0
+    slot[2] = v1
+    slot[3] = m
+    slot[4] = 1.0 if closed else 0.0
+    pts = slot[SCAN_HEAD:SCAN_HEAD + 8 * (m + 1)].reshape((m + 1, 8))
+    for k in range(m + 1):
+        for i in range(6):
+            pts[k, i] = qs[k, i]
+        pts[k, 6] = rs[k]
+        pts[k, 7] = es[k]
+
+
+@njit(allocates=True)
+def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
+    """Every exact solution on the branch of the reduced residual (:func:`_reduced_at`) with
+    joint ``j`` over [v0, v1], tracked from ``start`` on a grid of ``m`` <= REDUCED_GRID cells
+    (each point Gauss-Newton from the extrapolation of the two before it): sign changes refined
+    by Illinois in ``v``, dips toward zero (tangencies, two roots in one cell) by Brent's
+    minimiser on the signed residual and split at its bottom; each candidate is verified
+    (polished) on the exact forward kinematics and added. A cell an earlier scan of the pose
+    refined from the same points is not refined again (:func:`_scan_seen`). On return
+    ``start`` holds the grid point whose wrist is the least bent (see
+    :func:`straight_family`)."""
+    T = np.empty((4, 4))
+    J = np.empty((6, 6))
+    A = np.empty((6, 6))
+    ZO = np.empty((7, 6))
+    e = np.empty(6)
+    g = np.empty(6)
+    dq = np.empty(6)
+    qs = np.empty((m + 1, 6))
+    rs = np.empty(m + 1)
+    es = np.empty(m + 1)
+    qt = np.empty(6)
+    th6 = np.empty(6)  # (the other wrist at a dip: see other_wrist)
+    M3 = np.empty((4, 4))
+    Q3 = np.empty((3, 3))
+    W3 = np.empty((3, 3))
+    memo = ws[W_RSCAN:W_RSCAN + SCAN_MEMO * SCAN_SLOT]
+    n = int(ws[W_NRSCAN]) if m == REDUCED_GRID else 0
+    joined = -1
+    for k in range(m + 1):
+        if joined < 0 and k >= 2:
+            joined = _scan_joined(memo, n, j, v0, v1, m, qs, k)
+        if joined >= 0:
+            # (the earlier scan's point k: Gauss-Newton from the same start; added if exact then)
+            pts = memo[joined * SCAN_SLOT + SCAN_HEAD:(joined + 1) * SCAN_SLOT]
+            for i in range(6):
+                qs[k, i] = pts[8 * k + i]
+            rs[k] = pts[8 * k + 6]
+            es[k] = pts[8 * k + 7]
+            continue
+        for i in range(6):
+            if k == 0:
+                qt[i] = start[i]
+            elif k == 1:
+                qt[i] = qs[0, i]
+            else:
+                qt[i] = 2.0 * qs[k - 1, i] - qs[k - 2, i]
+        r, res, ok = _reduced_at(qt, j, v0 + (v1 - v0) * k / m, Td, K, T, J, A, e, g, dq, ZO)
+        for i in range(6):
+            qs[k, i] = qt[i]
+        rs[k] = r if ok else np.nan
+        es[k] = res if ok else np.inf
+        if ok:
+            dp, dr = residual(T, Td)
+            if dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]:
+                count = add_answer(qt.copy(), out, count, Td, K, mats)
+    # over a whole turn the branch is a closed curve when it comes back to its start: the grid
+    # point before the first is then the last but one (a dip at the start is a dip)
+    closed = abs(v1 - v0 - TWO_PI) < 1e-12 and apart(qs[0], qs[m]) < CLOSED_TOL
+    for k in range(m):
+        va = v0 + (v1 - v0) * k / m
+        vb = v0 + (v1 - v0) * (k + 1) / m
+        ra = rs[k]
+        rb = rs[k + 1]
+        kb = k - 1 if k > 0 else m - 1  # (the point before; k = 0 only on a closed curve)
+        kind = _cell_kind(rs, es, k, kb, closed)
+        if kind == 0 or _scan_seen(memo, n, j, v0, v1, m, qs, kind, k, kb):
+            continue
+        if kind == 1:
+            for i in range(6):
+                qt[i] = qs[k, i]
+            _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO)
+            count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
+        else:
+            # a dip of |e| without a sign change: a tangency, or two roots within one cell; where
+            # the bottom has the other sign, both roots are refined
+            for i in range(6):
+                qt[i] = qs[k, i]
+            sgn = 1.0 if ra > 0.0 else -1.0
+            # the bottom of the signed residual (|e| would stop at a root), by Brent's minimiser
+            st, x = brent_start(v0 + (v1 - v0) * (k - 1) / m, vb)
+            for _ in range(200):
+                f, _, okf = _reduced_at(qt, j, x, Td, K, T, J, A, e, g, dq, ZO)
+                st = brent_take(st, x, sgn * f if okf else np.inf)
+                st, x, done = brent_next(st)
+                if done:
+                    break
+            vm = st[2]
+            rm, _, okm = _reduced_at(qt, j, vm, Td, K, T, J, A, e, g, dq, ZO)
+            qm = qt.copy()
+            count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
+            if okm and rm * ra < 0.0:
+                v_lo = v0 + (v1 - v0) * (k - 1) / m
+                for vx, rx in ((v_lo, rs[kb]), (vb, rb)):
+                    for i in range(6):
+                        qt[i] = qm[i]
+                    _reduced_root(qt, j, min(vx, vm), max(vx, vm), rx if vx < vm else rm,
+                                  rm if vx < vm else rx, Td, K, T, J, A, e, g, dq, ZO)
+                    count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
+            elif bend(qm, K) > STRAIGHT_DEVIATING:
+                # a bottom that is no root: the other wrist of its arm may be a solution on a
+                # sheet this curve never reaches (it can cross the fully bent wrist, q5 = pi,
+                # onto the sheet it started beside)
+                other_wrist(qm, mats[MAT_R07, :3, :3], K, th6, M3, Q3, W3, qt)
+                count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
+    if m == REDUCED_GRID and joined < 0:
+        _scan_keep(memo, n, j, v0, v1, m, qs, rs, es, closed)
+        ws[W_NRSCAN] = n + 1
+    least = math.inf
+    for k in range(m + 1):
+        t5 = bend(qs[k], K)
+        if math.isfinite(rs[k]) and t5 < least:
+            least = t5
+            for i in range(6):
+                start[i] = qs[k, i]
+    return count
+
+
+@njit
+def other_wrists(R07, Td, K, out, count, ws, mats):
+    """The other wrist of each solution of a deviating model that has none: on the idealised
+    model every arm comes with both wrists (theta5 of either sign, theta4 and theta7 from the
+    arm's wrist target), and the deviation moves the two apart by about its own size. Where the
+    idealised model has no solution near (both come from one near miss, beside the elbow stretch
+    or the fully bent wrist), the polish of the near miss's candidates can reach one wrist and
+    not the other: a solution with no other one within OTHER_WRIST_ARM (rad, joints 1 to 3) whose
+    theta5 has the other sign starts a polish from its arm with the other wrist. Not at a straight
+    wrist, whose neighbours the straight-wrist scan finds (:func:`straight_family`)."""
+    th = ws[W_TH:W_TH + NTH]
+    qq = ws[W_QQ:W_QQ + 6]
+    n0 = count
+    for s in range(n0):
+        t5 = theta5(out[s], K)
+        if abs(t5) < STRAIGHT_DEVIATING:
+            continue
+        paired = False
+        for e in range(count):
+            if e == s or theta5(out[e], K) * t5 >= 0.0:
+                continue
+            near = True
+            for i in range(3):
+                near = near and abs(wrap(out[e, i] - out[s, i])) < OTHER_WRIST_ARM
+            if near:
+                paired = True
+                break
+        if paired:
+            continue
+        other_wrist(out[s], R07, K, th, mats[MAT_M], mats[MAT_Q, :3, :3], mats[MAT_WR, :3, :3], qq)
+        count, _ = accept(qq, Td, K, out, count, mats, False, False)
+    return count
+
+
+@njit
+def _condition_frobenius(J, A, B):
+    """``|J|_F |J^-1|_F`` of ``J`` (6, 6; inf when singular): at least ``sigma_max / sigma_min``
+    and at most 6 times it, so that a solution whose value is below ``1 / PARTNER_SIGMA`` is
+    regular beyond doubt, for the cost of a few Jacobians instead of a singular value
+    decomposition. ``J^-1`` by one elimination with partial pivoting of ``J`` (into ``A``) beside
+    the identity (into ``B``; both 6 x 6 work arrays), then a back substitution per column: the
+    operations of :func:`ik7r._kernels.fk.solve6` on each column of the identity, done once for
+    all six (the same numbers, bit for bit)."""
+    for r in range(6):
+        for c in range(6):
+            A[r, c] = J[r, c]
+            B[r, c] = 1.0 if r == c else 0.0
+    for k in range(6):
+        p = _pivot(A, k)
+        if A[p, k] == 0.0:
+            return math.inf
+        if p != k:
+            for c in range(6):
+                A[k, c], A[p, c] = A[p, c], A[k, c]
+                B[k, c], B[p, c] = B[p, c], B[k, c]
+        for i in range(k + 1, 6):
+            f = A[i, k] / A[k, k]
+            for c in range(k, 6):
+                A[i, c] -= f * A[k, c]
+            for c in range(6):
+                B[i, c] -= f * B[k, c]
+    inv = 0.0
+    for k in range(6):
+        for i in range(5, -1, -1):  # (column k of J^-1, into column k of B)
+            s = B[i, k]
+            for c in range(i + 1, 6):
+                s -= A[i, c] * B[c, k]
+            B[i, k] = s / A[i, i]
+        for r in range(6):
+            inv += B[r, k] * B[r, k]
+    nj = 0.0
+    for r in range(6):
+        for c in range(6):
+            nj += J[r, c] * J[r, c]
+    return math.sqrt(nj * inv)
+
+
+@njit(allocates=True)
+def partners(Td, K, out, count, ws, mats):
+    """Solutions of a deviating model next to a nearly singular one. Where the exact model has
+    two solutions close together whose idealised counterparts are complex (or merged), the
+    polish of every idealised candidate can land on one of them. At a solution ``x`` with the
+    Jacobian's smallest singular value ``sigma`` (left and right vectors ``u``, ``v``) the pose
+    error along ``x + t v`` is ``sigma t + c t^2 / 2`` on ``u`` (``c`` by central differences):
+    its second zero ``t = -2 sigma / c`` is the partner's prediction, polished on the exact model
+    (a check, not a certificate: see docs/guide/edges.md). Where that step finds nothing new,
+    the reduced residual (:func:`reduced_scan`) in the joint ``v`` moves most is scanned
+    PARTNER_CELLS cells each way: the partner lies on the curve of nearly solutions through
+    ``x``, which may bend away from the line (the error off ``u`` then grows along it). A
+    partner found is itself searched for a partner (a cluster of three: a solution found only
+    as a partner had its own missed). Not in q1 where :func:`_shoulder_turn` has tracked the
+    exact model over its whole turn (:func:`turn_scanned`): the same solution sets over 24,000
+    poses of four deviating robots without those scans, a third of the partners' reduced
+    residuals on a near-shoulder pose."""
+    T = np.empty((4, 4))
+    J = np.empty((6, 6))
+    A = np.empty((6, 6))
+    ZO = np.empty((7, 6))
+    ep = np.empty(6)
+    qt = np.empty(6)
+    w = 1.0 / K[L.SCALE]
+    turned = turn_scanned(ws[W_P:W_P + 3], ws[W_A:W_A + 3], K)  # (once per pose, not per partner)
+    s = -1
+    while s + 1 < count:  # (each new row a distinct solution: bounded by the output's size)
+        s += 1
+        if bend(out[s], K) < STRAIGHT_DEVIATING:
+            continue  # a straight wrist's neighbours: the whole turn is scanned (straight_family)
+        x = out[s].copy()
+        fk_jacobian(x, K, T, J, ZO)
+        for r in range(3):
+            for c in range(6):
+                J[r, c] *= w
+        if PARTNER_SIGMA * _condition_frobenius(J, A, ZO[:6]) <= 1.0:
+            continue  # clearly regular: sigma_min / sigma_max >= 1 / the Frobenius condition
+        U, S, Vt = np.linalg.svd(J)
+        if not S[5] < PARTNER_SIGMA * S[0]:
+            continue
+        h = 1e-3
+        curv = 0.0
+        for sg in (1.0, -1.0):
+            for i in range(6):
+                qt[i] = x[i] + sg * h * Vt[5, i]
+            fk_user(qt, K, T)
+            pose_error(T, Td, ep, ZO[:3, :3])
+            for r in range(3):
+                ep[r] *= w
+            for r in range(6):
+                curv -= U[r, 5] * ep[r]  # F = -pose_error
+        curv /= h * h
+        if curv == 0.0:
+            continue
+        t = -2.0 * S[5] / curv
+        before = count
+        if abs(t) <= PARTNER_REACH:
+            for i in range(6):
+                qt[i] = x[i] + t * Vt[5, i]
+            count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
+        if count == before:
+            # no partner on the line: the curve of nearly solutions through x bends away from
+            # x + t v (the error off u grows along the line), so follow it with the reduced
+            # residual in the joint v moves most, PARTNER_CELLS cells each way
+            j = 0
+            for i in range(6):
+                if abs(Vt[5, i]) > abs(Vt[5, j]):
+                    j = i
+            if j == 0 and turned:
+                continue
+            reach = PARTNER_REACH * abs(Vt[5, j])
+            for sg in (1.0, -1.0):
+                # (from PARTNER_STEP of a cell beside x, not from x: the residual is zero at x, so
+                # the first cell's sign test would read rounding, and a partner in it was lost)
+                count = reduced_scan(x.copy(), j, x[j] + sg * PARTNER_STEP * reach / PARTNER_CELLS,
+                                      x[j] + sg * reach, PARTNER_CELLS, Td, K, out, count, ws, mats)
+    return count

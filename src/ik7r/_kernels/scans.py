@@ -1,0 +1,530 @@
+"""The scans that find what the residual polynomial leaves undecided, or cannot see.
+
+``scan_theta5`` over brackets the root isolation could not decide, ``scan_shoulder`` in theta1
+near the shoulder singular set (on deviating models the exact model's reduced residual over
+the whole turn and around the nominal gap's dips), ``scan_fold`` next to the fully bent wrist of
+a (nearly) 45 deg twist, and ``gap_near_misses`` (deviating models: the nominal gaps' dips that
+miss zero by about the deviation). Each sign change or deep dip becomes a candidate
+(``_gap_candidate``) verified by :mod:`.candidates`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import params as L
+from .answers import accept
+from .candidates import wrist_and_accept
+from .constants import (
+    DIP_FLOOR,
+    FOLD_BELOW,
+    FOLD_BELOW_CELLS,
+    FOLD_END_NEAR,
+    FOLD_NEAR,
+    FOLD_SPAN,
+    FOLD_WINDOW,
+    GAP_NEAR_CELLS,
+    GAP_NEAR_DEPTH,
+    GAP_NEAR_END,
+    GAP_NEAR_GRID,
+    MAT_M,
+    MAT_Q,
+    NEAR_SINGULAR,
+    NTH,
+    REDUCED_GRID,
+    SCAN_GRID,
+    SCAN_NEAR,
+    SCAN_NEAR_DEVIATING,
+    SCAN_NEST,
+    SCAN_NEST_FOLD_AXIS,
+    SCAN_PIECES,
+    SHOULDER_CELLS,
+    SHOULDER_DIP,
+    SHOULDER_DIP_SAME,
+    SHOULDER_DIPS,
+    SHOULDER_EXACT_FAR,
+    SHOULDER_EXACT_NEAR,
+    SHOULDER_NEAR,
+    SHOULDER_REACH,
+    SHOULDER_SCAN_DEVIATING,
+    SHOULDER_TURN_BEND,
+    SHOULDER_TURN_SLACK,
+    TWO_PI,
+    W_NSDIP,
+    W_PAIR,
+    W_Q6,
+    W_QQ,
+    W_SCAN,
+    W_SDIP,
+    W_SUB,
+    W_TH,
+    wrap,
+)
+from .fk import user_angle
+from .gaps import (
+    bend_gap,
+    branch_end,
+    fold_axis_sw,
+    fold_eps,
+    fold_gap,
+    fold_gap_pair,
+    fold_near_axis,
+    gap,
+    gap_min,
+    gap_root,
+    shoulder_gap,
+    tiny_piece,
+)
+from .jit import njit
+from .joints import arm_frame, arm_may_match, filter_margin, with_fold_wrist, with_wrist
+from .reduced import reduced_scan
+from .singular import d_near_range, fold_snap, line_to_axis1, shoulder_offset, turn_scanned, u_fold
+from .wrist import theta5_cs_of_u
+
+
+@njit
+def scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats, front1=1.0,
+                 cells=SCAN_GRID):
+    """Every solution with theta5 in [ta, tb] (an interval the residual polynomial left
+    undecided: its values there are within their rounding of zero), from the bend gap of each
+    of the four arm branches (:func:`bend_gap`) on a grid: sign changes refined to the last
+    bits, dips of |gap| (tangential roots, or two roots in one cell) refined by Brent's minimiser
+    and split at the dip. Where a branch ends inside a cell (the elbow stretches) the end is
+    found by bisection and the piece between it and the grid is scanned on a grid of its own.
+    Each candidate is completed with the wrist and verified on the forward kinematics.
+    ``front1`` 2: the same scan of the fold gap (:func:`scan_fold`). ``cells``: the first grid's
+    (the pieces it adds have SCAN_GRID)."""
+    sub = ws[W_SUB:W_SUB + 2 * SCAN_PIECES]
+    paired = abs(front1) == 2.0 and not tiny_piece(ta, tb)
+    for front in (front1, -front1):
+        if paired:
+            # the fold gap's two elbow branches share most of their arm: their first grids at once
+            th = ws[W_TH:W_TH + NTH]
+            for i in range(cells + 1):
+                gp, okp, gm, okm = fold_gap_pair(ta + (tb - ta) * i / cells, p, a, 0.5 * front, K, th)
+                ws[W_PAIR + i] = gp if okp else np.nan
+                ws[W_PAIR + SCAN_GRID + 1 + i] = gm if okm else np.nan
+        for elbow in (1.0, -1.0):
+            sub[0] = ta
+            sub[1] = tb
+            npieces = 1
+            j = 0
+            while j < npieces:
+                t0 = sub[2 * j]
+                t1 = sub[2 * j + 1]
+                given = (0 if elbow > 0.0 else 1) if paired and j == 0 else -1
+                count, npieces = _scan_piece(t0, t1, sub, npieces, front, elbow, p, a, R07,
+                                             Td, K, hint, has_hint, out, count, filt, ws, mats,
+                                             cells if j == 0 else SCAN_GRID, given)
+                j += 1
+    return count
+
+
+@njit
+def gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Extra candidates for a model that deviates from the idealised one: the near misses of
+    each of the four arm branches' bend gaps (:func:`bend_gap`) over the whole theta5 range.
+    A tangency of one branch's gap that the deviation turns into a pair of exact solutions is a
+    near miss of one factor of the residual polynomial, but the factor of one shoulder branch
+    is the product over its two elbow branches, and where the other elbow branch has a simple
+    root less than a cell away the factor changes sign and shows no minimum (:func:`_near_misses`
+    looks no deeper than the shoulder branches). Over theta5 in [0, pi] (up to the fold span
+    where the fully bent wrist is nearly folded back), each grid minimum of ``|gap|`` below
+    GAP_NEAR_GRID (rad) whose cells keep one sign is refined by Brent's minimiser (every one: beside
+    the elbow stretch a dip is a V that no parabola through three grid values shows) and, when it
+    comes below GAP_NEAR_DEPTH without crossing zero, completed with the wrist and polished
+    on the exact model (its partner: :func:`partners`). Next to an end of the branch (the elbow
+    stretched), a grid point below GAP_NEAR_END whose ``|gap|`` falls toward the end has no
+    defined neighbour there: the end is bisected for (:func:`branch_end`) and the part between it
+    and the point minimised the same way. Sign changes are the polynomial's."""
+    m = GAP_NEAR_CELLS
+    gs = ws[W_SCAN:W_SCAN + m + 1]
+    th = ws[W_TH:W_TH + NTH]
+    top = math.pi
+    if u_fold(K) < FOLD_NEAR:  # (the fold span is the fold gap's: see :func:`scan_fold`)
+        top = theta5_cs_of_u(u_fold(K) + FOLD_SPAN, K)[0]
+    for front in (1.0, -1.0):
+        for elbow in (1.0, -1.0):
+            for i in range(m + 1):
+                g, ok = bend_gap(top * i / m, p, a, front, elbow, K, th)
+                gs[i] = g if ok else np.nan
+            for i in range(m + 1):
+                # (at an end of the range, the straight or fully bent wrist, the one neighbour
+                # is taken twice: a minimum there is refined over its one cell)
+                g0, g1, g2 = gs[max(i - 1, 1 - i)], gs[i], gs[min(i + 1, 2 * m - 1 - i)]
+                if (0 < i < m and abs(g1) < GAP_NEAR_END
+                        and math.isfinite(g0) != math.isfinite(g2)):
+                    # the branch ends in the cell beside: a near miss between the end and this
+                    # point (the elbow nearly stretched) has no grid point of its own
+                    out_i = i - 1 if math.isfinite(g2) else i + 1
+                    g_in = g2 if math.isfinite(g2) else g0
+                    if g1 * g_in > 0.0 and abs(g1) <= abs(g_in):
+                        t_e = branch_end(top * i / m, top * out_i / m, p, a, front, elbow, K, th)
+                        tm, fm, gm, okm = gap_min(min(t_e, top * i / m), max(t_e, top * i / m),
+                                                   p, a, front, elbow, K, th)
+                        if okm and fm < GAP_NEAR_DEPTH and gm * g1 > 0.0:
+                            count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint,
+                                                   has_hint, out, count, filt, ws, mats)
+                    continue
+                if not (abs(g1) < GAP_NEAR_GRID and g0 * g1 > 0.0 and g1 * g2 > 0.0
+                        and abs(g1) <= abs(g0) and abs(g1) <= abs(g2)):
+                    continue  # (NaN, a branch end, fails the comparisons)
+                tm, fm, gm, okm = gap_min(top * max(i - 1, 0) / m, top * min(i + 1, m) / m, p,
+                                           a, front, elbow, K, th)
+                if okm and fm < GAP_NEAR_DEPTH and gm * g1 > 0.0:
+                    count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint, has_hint, out,
+                                           count, filt, ws, mats)
+    return count
+
+
+@njit
+def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_hint, out,
+                count, filt, ws, mats, cells=SCAN_GRID, given=-1):
+    """One grid of :func:`scan_theta5` over [ta, tb] on one arm branch; the pieces next to
+    branch ends and around dips it finds are appended to ``sub`` (while there is room: a piece
+    is two cells of the one that found it, so they nest). In the fold scan of a deviating model
+    a branch's end is itself a candidate (see FOLD_END_NEAR). ``cells``: the grid's (at most
+    SCAN_GRID). ``given`` >= 0: the grid's values are row ``given`` of the work block W_PAIR
+    (:func:`scan_theta5` evaluated them, both elbows at once). Returns (count, npieces)."""
+    m = cells
+    gs = ws[W_SCAN:W_SCAN + m + 1]
+    th = ws[W_TH:W_TH + NTH]
+    near = SCAN_NEAR if K[L.DEVIATION] == 0.0 else SCAN_NEAR_DEVIATING
+    if tiny_piece(ta, tb):
+        # a piece this narrow (an undecided bracket of the polynomial at its width limit) holds
+        # roots within SCAN_TINY of each other, which its grid would not tell apart from rounding
+        # (every grid point could look like a dip): its sign change, else its least |gap|
+        g0, ok0 = gap(ta, p, a, front, elbow, K, th)
+        g1, ok1 = gap(tb, p, a, front, elbow, K, th)
+        if ok0 and ok1 and g0 * g1 < 0.0:
+            t = gap_root(ta, tb, g0, g1, p, a, front, elbow, K, th)
+        else:
+            t, fm, _, _ = gap_min(ta, tb, p, a, front, elbow, K, th)
+            if not fm < near:
+                return count, npieces
+        return _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt,
+                              ws, mats), npieces
+    for i in range(m + 1):
+        if given >= 0:
+            gs[i] = ws[W_PAIR + given * (SCAN_GRID + 1) + i]
+        else:
+            g, ok = gap(ta + (tb - ta) * i / m, p, a, front, elbow, K, th)
+            gs[i] = g if ok else np.nan
+    for i in range(m + 1):
+        gi = gs[i]
+        ti = ta + (tb - ta) * i / m
+        if i < m and math.isfinite(gi) != math.isfinite(gs[i + 1]) and npieces < SCAN_PIECES:
+            # the branch ends in this cell: bisect for the end, then scan the defined part
+            t_in = branch_end(ti if math.isfinite(gi) else ta + (tb - ta) * (i + 1) / m,
+                               ta + (tb - ta) * (i + 1) / m if math.isfinite(gi) else ti,
+                               p, a, front, elbow, K, th)
+            edge = ti if math.isfinite(gi) else ta + (tb - ta) * (i + 1) / m
+            if abs(front) == 2.0 and K[L.DEVIATION] > 0.0:
+                g_end, ok_end = gap(t_in, p, a, front, elbow, K, th)
+                if ok_end and abs(g_end) < FOLD_END_NEAR:
+                    count = _gap_candidate(t_in, p, a, front, elbow, R07, Td, K, hint, has_hint,
+                                           out, count, filt, ws, mats)
+            sub[2 * npieces] = min(t_in, edge)
+            sub[2 * npieces + 1] = max(t_in, edge)
+            npieces += 1
+        if not math.isfinite(gi):
+            continue
+        if abs(front) == 2.0 and i == 0 and gi != 0.0 and abs(gi) < near:
+            # the fold scan's start is the fully bent wrist itself, where the fold gap of a pose
+            # made there vanishes: a candidate whatever the cell beside it holds
+            count = _gap_candidate(ti, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count,
+                                   filt, ws, mats)
+        t = ti
+        have = gi == 0.0  # (theta1 may be negative: a flag, not a sentinel value)
+        if not have and i < m and math.isfinite(gs[i + 1]) and gi * gs[i + 1] < 0.0:
+            t = gap_root(ti, ta + (tb - ta) * (i + 1) / m, gi, gs[i + 1], p, a, front, elbow, K, th)
+            have = True
+            if front == 0.0 and K[L.DEVIATION] > 0.0 and ta == sub[0] and tb == sub[1]:
+                # (a root's exact solutions move as far as a dip's, and may come as a pair)
+                count = _shoulder_exact(t, elbow, p, a, R07, Td, K, hint, out, count, ws, mats)
+        elif (not have and (i == 0 or not math.isfinite(gs[i - 1]) or abs(gi) < abs(gs[i - 1]))
+              and (i == m or not math.isfinite(gs[i + 1]) or abs(gi) <= abs(gs[i + 1]))):
+            # a dip of |gap|: a tangential root, or two roots within one grid cell
+            lo_i = max(0, i - 1)
+            hi_i = min(m, i + 1)
+            t_lo = ta + (tb - ta) * lo_i / m
+            t_hi = ta + (tb - ta) * hi_i / m
+            # (the gaps in theta1, front 0 and 3, are minimised to the end: see DIP_FLOOR)
+            tm, fm, gm, okm = gap_min(t_lo, t_hi, p, a, front, elbow, K, th,
+                                       DIP_FLOOR if front != 0.0 and front != 3.0 else 0.0)
+            if okm and gm * gi < 0.0:
+                for t_end, g_end in ((t_lo, gs[lo_i]), (t_hi, gs[hi_i])):
+                    if math.isfinite(g_end) and g_end * gm < 0.0:
+                        tr = gap_root(min(t_end, tm), max(t_end, tm), g_end if t_end < tm else gm,
+                                       gm if t_end < tm else g_end, p, a, front, elbow, K, th)
+                        count = _gap_candidate(tr, p, a, front, elbow, R07, Td, K, hint, has_hint,
+                                               out, count, filt, ws, mats)
+            if fm < near:  # (also when split: at a tangency the bottom itself is the root)
+                t = tm
+                have = True
+            if (front == 0.0 and K[L.DEVIATION] > 0.0 and fm < SHOULDER_DIP and ta == sub[0]
+                    and tb == sub[1]):
+                count = _shoulder_exact(tm, elbow, p, a, R07, Td, K, hint, out, count, ws, mats)
+            nest = SCAN_NEST_FOLD_AXIS if front == 3.0 else SCAN_NEST
+            if fm < near and npieces < SCAN_PIECES and t_hi - t_lo >= nest * (sub[1] - sub[0]):
+                # a dip that reaches (nearly) zero may hide more than one root: scan it again
+                # on a grid of its own
+                sub[2 * npieces] = t_lo
+                sub[2 * npieces + 1] = t_hi
+                npieces += 1
+        if have:
+            count = _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count,
+                                   filt, ws, mats)
+    return count, npieces
+
+
+@njit
+def scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Near the shoulder singular set (no lateral offset; the line of virtual centres
+    ``p - t a`` passes within SHOULDER_NEAR of the robot's size from axis 1, at a d in range;
+    on a deviating model within SHOULDER_SCAN_DEVIATING, see :func:`shoulder_offset`):
+    every solution from the bend gap in theta1 (:func:`shoulder_gap`) on a grid over the whole
+    turn, both elbow branches."""
+    if K[L.B] != 0.0:
+        return count
+    if a[0] * a[0] + a[1] * a[1] < 1e-24:
+        return count  # a along axis 1: P' is at one distance from it for every d
+    t, r = line_to_axis1(p, a)
+    if K[L.DEVIATION] == 0.0:
+        if r > SHOULDER_NEAR * K[L.SCALE]:
+            return count
+    elif shoulder_offset(p, a, K) > SHOULDER_SCAN_DEVIATING:
+        return count
+    d = t - K[L.D7]
+    if not d_near_range(d, K):
+        return count
+    return _scan_turn(0.0, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+
+
+@njit
+def _scan_turn(front, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Every root of a gap in theta1 (``front`` 0: :func:`shoulder_gap`, 3: :func:`_fold_axis_gap`)
+    on a grid over the whole turn (:func:`_scan_piece`, nested pieces), both elbow branches.
+
+    Where a deviating model's line of virtual centres passes within SHOULDER_EXACT_NEAR of axis
+    1 (``turn``) the exact model is tracked over the whole turn (:func:`_shoulder_turn`) and only
+    the nominal gap's first grid is scanned: its roots and dips start the dip-centred scans of
+    :func:`_shoulder_exact`, while the nested pieces would refine nominal roots whose exact
+    solutions those scans find anyway (the same solution sets over 12,000 near-shoulder poses
+    of four deviating robots without them; they were 600 of such a pose's 830 gap values)."""
+    sub = ws[W_SUB:W_SUB + 2 * SCAN_PIECES]
+    turn = front == 0.0 and turn_scanned(p, a, K)
+    for elbow in (1.0, -1.0):
+        sub[0] = -math.pi
+        sub[1] = math.pi
+        npieces = 1
+        j = 0
+        while j < npieces:
+            count, npieces = _scan_piece(sub[2 * j], sub[2 * j + 1], sub, npieces, front, elbow,
+                                         p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+            j += 1
+            if turn:
+                break  # (the first grid only: see above)
+        if turn:
+            count = _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats)
+    return count
+
+
+@njit
+def _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
+    """Where the line of virtual centres passes within SHOULDER_EXACT_NEAR of axis 1
+    (:func:`shoulder_offset`), on a model that deviates from the idealised one: every exact
+    solution on the elbow branch ``elbow`` over the whole turn of q1. There the deviation moves the virtual
+    centre by as much as its distance from axis 1 or more, so the exact solutions lie anywhere
+    in theta1, not only near the nominal gap's dips (an IRB 5400 pose with the line 1.1e-5 of
+    the size from axis 1 has one 1.2 rad from the nearest dip). The exact model's reduced
+    residual in q1 (:func:`_reduced_at`) is tracked over the turn on REDUCED_GRID cells, one
+    closed curve per wrist sign, from the nominal arm and wrist at the first grid point the
+    branch reaches, or where none does, from the nearest arm of the first that misses by less
+    than SHOULDER_TURN_SLACK; the dip-centred scans of :func:`_shoulder_exact` (finer,
+    SHOULDER_REACH each way) still resolve the close pairs beside the dips."""
+    th = ws[W_TH:W_TH + NTH]
+    ok = False
+    for slack in (1e-12, SHOULDER_TURN_SLACK):
+        for k in range(REDUCED_GRID):
+            t1 = K[L.SIGN] * (-math.pi + TWO_PI * k / REDUCED_GRID) + K[L.THETA_OFFSET1]
+            _, ok = shoulder_gap(t1, p, a, elbow, K, th, slack)
+            if ok:
+                break
+        if ok:
+            break
+    if not ok:
+        return count
+    arm_frame(th, R07, K, ws, mats)
+    return _q1_scans(th, TWO_PI, 0.0, REDUCED_GRID, Td, K, hint, out, count, ws, mats)
+
+
+@njit
+def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
+    """The exact model's reduced residual in q1 (:func:`reduced_scan`) tracked from the
+    nominal arm of ``th`` (made into ``ws`` and ``mats`` by :func:`arm_frame`) with its wrist of
+    either sign, from its q1 over ``span_a`` and then ``span_b`` (rad, user q1; 0: no scan), on
+    ``cells`` cells each."""
+    Q = mats[MAT_Q, :3, :3]
+    q = ws[W_Q6:W_Q6 + 6]
+    qq = ws[W_QQ:W_QQ + 6]
+    t5 = max(th[6], SHOULDER_TURN_BEND)
+    t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
+    v0 = q[0]
+    for sgn in (1.0, -1.0):
+        for span in (span_a, span_b):
+            if span == 0.0:
+                continue
+            # (the start into qq: reduced_scan reads it once, before it adds anything)
+            with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
+            count = reduced_scan(qq, 0, v0, v0 + span, cells, Td, K, out, count, ws, mats)
+    return count
+
+
+@njit
+def _shoulder_exact(t1, elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
+    """Near the shoulder set, on a model that deviates from the idealised one: every exact
+    solution next to the dip at theta1 = ``t1`` (DH) of the nominal shoulder gap on the elbow
+    branch ``elbow``, within SHOULDER_REACH of it. There the deviation moves the virtual
+    centre, a fraction of a millimetre from axis 1, by a good part of its distance from it, so
+    the exact model's
+    solutions lie 0.1 rad and more from the nominal ones in theta1 and come in pairs where the
+    nominal gap has only a dip (the idealised roots are complex). With theta1 fixed the five
+    other joints are regular, so they are the zeros of the exact model's reduced residual in q1
+    (:func:`_reduced_at`), tracked from the nominal arm and wrist at the dip (both wrist signs)
+    SHOULDER_REACH either way (:func:`reduced_scan`). Only where the line of virtual
+    centres passes within SHOULDER_EXACT_FAR of axis 1 (:func:`shoulder_offset`), beyond
+    SHOULDER_EXACT_NEAR with the reach shrinking as its distance grows: further out the
+    nominal candidates and their polish find these solutions (within SHOULDER_EXACT_NEAR the
+    whole turn is scanned as well: :func:`_shoulder_turn`)."""
+    r = shoulder_offset(p, a, K)  # (a is not along axis 1: scan_shoulder checked)
+    if r > SHOULDER_EXACT_FAR:
+        return count
+    if _dip_scanned(t1, elbow, ws):
+        return count
+    reach = SHOULDER_REACH if r <= SHOULDER_EXACT_NEAR else SHOULDER_REACH * SHOULDER_EXACT_NEAR / r
+    cells = max(2, int(math.ceil(SHOULDER_CELLS * reach / SHOULDER_REACH)))
+    th = ws[W_TH:W_TH + NTH]
+    _, ok = shoulder_gap(t1, p, a, elbow, K, th)
+    if not ok:
+        return count
+    arm_frame(th, R07, K, ws, mats)
+    q1 = ws[W_Q6]
+    return _q1_scans(th, wrap(user_angle(0, t1 - reach, K) - q1), wrap(user_angle(0, t1 + reach, K) - q1),
+                     cells, Td, K, hint, out, count, ws, mats)
+
+
+@njit
+def _dip_scanned(t1, elbow, ws):
+    """Whether :func:`_shoulder_exact` has scanned the dip at theta1 = ``t1`` (DH) on the elbow
+    branch ``elbow`` in this pose already (within SHOULDER_DIP_SAME); if not, it is remembered
+    (while there is room for it: SHOULDER_DIPS)."""
+    n = int(ws[W_NSDIP])
+    for k in range(n):
+        if ws[W_SDIP + 2 * k + 1] == elbow and abs(wrap(t1 - ws[W_SDIP + 2 * k])) < SHOULDER_DIP_SAME:
+            return True
+    if n < SHOULDER_DIPS:
+        ws[W_SDIP + 2 * n] = t1
+        ws[W_SDIP + 2 * n + 1] = elbow
+        ws[W_NSDIP] = n + 1
+    return False
+
+
+@njit
+def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt, ws, mats,
+                    t1=0.0, in_plane=False):
+    """Complete the root ``sw`` of the fold gap on the branch (front, elbow) with the wrist and
+    accept what is exact: theta5 = +-(pi - eps) (and pi itself when eps < FOLD_WINDOW); theta4
+    from the position of O (the centre of joint 6) about axis 4, which stays defined where the
+    orientation leaves only theta7 - theta4 (axis 7 folded back parallel to axis 4), then theta7
+    from the orientation. ``t1``, ``in_plane``: the arm in that plane (:func:`_fold_axis_gap`)."""
+    th = ws[W_TH:W_TH + NTH]
+    _, ok = fold_gap(sw, p, a, front, elbow, K, th, t1, in_plane)
+    if not ok:
+        return count
+    if filt >= 0 and not arm_may_match(th, filt, filter_margin(K), K):
+        return count
+    arm_frame(th, R07, K, ws, mats)
+    M = mats[MAT_M]
+    Q = mats[MAT_Q, :3, :3]
+    # O - O4 in frame 3 turned by alpha3 (frame 4 at theta4 = 0): its azimuth about axis 4
+    d7 = K[L.D7]
+    vx = p[0] - d7 * a[0] - th[7]
+    vy = p[1] - d7 * a[1] - th[8]
+    vz = p[2] - d7 * a[2] - th[9]
+    x3 = M[0, 0] * vx + M[1, 0] * vy + M[2, 0] * vz
+    y3 = M[0, 1] * vx + M[1, 1] * vy + M[2, 1] * vz
+    z3 = M[0, 2] * vx + M[1, 2] * vy + M[2, 2] * vz
+    az = math.atan2(K[L.NOMINAL_TRIG + 6] * y3 + K[L.NOMINAL_TRIG + 7] * z3, x3)
+    q = ws[W_Q6:W_Q6 + 6]
+    qq = ws[W_QQ:W_QQ + 6]
+    eps = fold_eps(sw, K)
+    if eps < fold_snap(K):
+        count, exact = accept(with_fold_wrist(q, Q, math.pi, -1.0, 0.0, az, K, mats, qq), Td, K,
+                               out, count, mats, True)
+        # (done unless the polish left this arm: with the approach along axis 1 the fold has
+        # solutions of its own, which a start beside them may slide to)
+        if exact and max(abs(wrap(qq[0] - q[0])), abs(wrap(qq[1] - q[1])),
+                         abs(wrap(qq[2] - q[2]))) < FOLD_WINDOW:
+            return count
+    for sgn in (1.0, -1.0):
+        t5 = sgn * (math.pi - eps)
+        count, _ = accept(with_fold_wrist(q, Q, t5, -math.cos(eps), sgn * math.sin(eps), az, K,
+                                            mats, qq), Td, K, out, count, mats)
+        if K[L.DEVIATION] > 0.0 and eps < NEAR_SINGULAR:  # (start off the singular fold too)
+            alt = sgn * (math.pi - NEAR_SINGULAR)
+            count, _ = accept(with_fold_wrist(q, Q, alt, math.cos(alt), math.sin(alt), az, K,
+                                                mats, qq), Td, K, out, count, mats, False, False)
+    return count
+
+
+@njit
+def scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Every solution within FOLD_SPAN (in u) of the fully bent wrist, for robots whose fold is
+    (nearly) at infinity (``cos(2 beta)`` below FOLD_NEAR): the fold gap (:func:`fold_gap`) of each
+    of the four arm branches scanned as the bend gap is (:func:`_scan_piece`), in ``sw =
+    sqrt(u - cos(2 beta))`` (proportional to sin((pi - theta5) / 2): solutions close to the fold
+    stay apart on the grid) from the fold (0) to just past where the polynomial search begins."""
+    if K[L.DEVIATION] > 0.0:
+        # the exact model's solutions at the fold may come from nominal roots beyond it (u below
+        # cos(2 beta), theta5 clamped to pi): near a fold at infinity a twist 1e-4 rad off moves
+        # the virtual centre by d 1e-4, and it may come back from the other side (u < 0)
+        count = scan_theta5(-math.sqrt(FOLD_BELOW * (1.0 - u_fold(K))), 0.0, p, a, R07, Td, K,
+                             hint, has_hint, out, count, filt, ws, mats, 2.0, FOLD_BELOW_CELLS)
+    count = scan_theta5(0.0, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint,
+                         has_hint, out, count, filt, ws, mats, 2.0)
+    if fold_near_axis(p, a, K):
+        # the approach (nearly) along axis 1: the fold gap in theta1 as well, and on a finer grid
+        # next to the fold (two roots there can be within 1e-4 in sw, one cell of the grid above)
+        count = _scan_turn(3.0, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+        count = scan_theta5(0.0, 1e-2 * math.sqrt(FOLD_SPAN), p, a, R07, Td, K, hint, has_hint,
+                             out, count, filt, ws, mats, 2.0)
+    return count
+
+
+@njit
+def _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Complete the arm branch's root ``t`` of the bend gap with the wrist; accept what is exact."""
+    if abs(front) == 2.0:
+        return _fold_candidate(t, p, a, 0.5 * front, elbow, R07, Td, K, hint, has_hint, out, count,
+                               filt, ws, mats)
+    if front == 3.0:
+        sw, ok = fold_axis_sw(t, p, a, K)
+        if not ok:
+            return count
+        return _fold_candidate(sw, p, a, 1.0, elbow, R07, Td, K, hint, has_hint, out, count, filt,
+                               ws, mats, t, True)
+    th = ws[W_TH:W_TH + NTH]
+    if front == 0.0:
+        _, ok = shoulder_gap(t, p, a, elbow, K, th)  # the arm of the root, into th; theta5 th[6]
+    else:
+        # (theta1 from the seed where the virtual centre is on axis 1: the gap does not depend
+        # on it when axis 7 is on axis 1 too, where the pose leaves q1 free)
+        _, ok = bend_gap(t, p, a, front, elbow, K, th, K[L.SIGN] * hint[0] + K[L.THETA_OFFSET1])
+    if ok:
+        t5 = th[6]
+        count = wrist_and_accept(th, t5, math.cos(t5), math.sin(t5), R07, Td, K, hint, has_hint,
+                                  out, count, filt, ws, mats)
+    return count

@@ -1,0 +1,80 @@
+"""Where a pose and a robot lie relative to the singular sets, from the robot's parameters and the
+line of virtual wrist centres (``p``, ``a``: frame 7's origin and axis in the base frame).
+
+Small predicates the scans share: the fold of a (nearly) 45 deg twist (``u_fold``,
+``fold_snap``), the line's distance from axis 1 (``line_to_axis1``, ``shoulder_offset``) and
+whether the whole turn of joint 1 is scanned there (``turn_scanned``).
+"""
+
+from __future__ import annotations
+
+import math
+
+from . import params as L
+from .constants import FOLD_SNAP, FOLD_WINDOW, SHOULDER_DEVIATING, SHOULDER_EXACT_NEAR
+from .jit import njit
+
+
+@njit
+def fold_snap(K):
+    """How close (rad) to theta5 = pi a wrist is tried at pi exactly first: FOLD_SNAP on the
+    idealised model, FOLD_WINDOW on a deviating one (whose polish starts off the fold)."""
+    return FOLD_SNAP if K[L.DEVIATION] == 0.0 else FOLD_WINDOW
+
+
+@njit
+def turn_scanned(p, a, K):
+    """Whether :func:`scan_shoulder` tracks the exact model over the whole turn of q1 for the
+    line of virtual centres ``p - t a`` (:func:`_shoulder_turn`)."""
+    if K[L.B] != 0.0 or K[L.DEVIATION] == 0.0 or a[0] * a[0] + a[1] * a[1] < 1e-24:
+        return False
+    t, _ = line_to_axis1(p, a)
+    d = t - K[L.D7]
+    return d_near_range(d, K) and shoulder_offset(p, a, K) <= SHOULDER_EXACT_NEAR
+
+
+@njit
+def d_near_range(d, K):
+    """Whether ``d`` is within 2 % of the robot's range of d (the shoulder scans' window: a
+    deviating model's solutions there may come from a nominal d just beyond the range)."""
+    return 0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]
+
+
+@njit
+def line_to_axis1(p, a):
+    """The line of virtual centres ``p - t a`` (``a`` not along axis 1) at its closest to axis 1:
+    (t there, the distance)."""
+    axy2 = a[0] * a[0] + a[1] * a[1]
+    t = (p[0] * a[0] + p[1] * a[1]) / axy2
+    rx = p[0] - t * a[0]
+    ry = p[1] - t * a[1]
+    return t, math.sqrt(rx * rx + ry * ry)
+
+
+@njit
+def shoulder_offset(p, a, K):
+    """The line of virtual centres' distance from axis 1 (``a`` not along it) relative to the
+    larger of the robot's size and the distance d of its closest point from the wrist: how far
+    a deviating model's virtual centre moves is the deviation's lengths plus d times its angles,
+    and near the fully bent wrist of a 45 deg twist d reaches 1,000 sizes and more."""
+    t, r = line_to_axis1(p, a)
+    return r / max(K[L.SCALE], abs(t - K[L.D7]))
+
+
+@njit
+def u_fold(K):
+    """``u = KW / d`` of the fully bent wrist (theta5 = pi): ``cos(2 beta)``."""
+    return 1.0 - 2.0 * K[L.SB] * K[L.SB]
+
+
+@njit
+def near_shoulder(th, K):
+    """Whether the arm of DH cosines and sines ``th`` (see :func:`arm_from_psi`) places the
+    straight wrist's virtual centre within SHOULDER_DEVIATING of the robot's size from axis 1
+    (its distance in the arm plane, ``a1`` plus the reach of joints 2 and 3)."""
+    c2, c3, s2, s3 = th[1], th[2], th[4], th[5]
+    Ld = K[L.D4] + K[L.KW]
+    e3 = K[L.EPS3]
+    x2 = K[L.A2] + K[L.A3] * c3 + e3 * Ld * s3
+    y2 = K[L.A3] * s3 - e3 * Ld * c3
+    return abs(K[L.A1] + c2 * x2 - s2 * y2) < SHOULDER_DEVIATING * K[L.SCALE]
