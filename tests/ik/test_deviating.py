@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from helpers import source_distance, wrap
 from reference_ik import among, reference_ik, singular_joints
+from scipy.optimize import least_squares
 
 import ik7r
 from ik7r.robot import Robot
@@ -454,6 +455,69 @@ def test_a_root_pair_at_the_start_of_the_straight_scan():
         assert near.min() < SOURCE_TOL, near.min()
         partner = sols[(np.argsort(near)[1])]
         assert abs(partner[4]) < 1e-4 and 0.04 < near[np.argsort(near)[1]] < 0.2, partner
+
+
+def test_a_straight_root_inside_a_cell_whose_end_is_a_root():
+    """generated(2), the wrist exactly straight (q5 = 0). The reduced residual of the split q4
+    (the straight-wrist scan over the whole turn, 48 cells) has two roots 0.073 rad apart in one
+    cell: the source at q4 = -1.498 and a solution at q4 = -pi/2 - 2e-5, within the tolerance at
+    the cell's grid point -pi/2 itself. Illinois, started from that end, stopped at its root and
+    the source was missed (5 answers); the cell's signs are now read ROOT_END_STEP of the cell
+    inside such an end. Both are answers, each exact in every joint (q5 included); that they are
+    two solutions, not one valley, the least-squares pose error with q4 held half way between
+    them shows (scipy, to convergence: far beyond the tolerance)."""
+    robot = generated(2)
+    q = np.array([-0.5418141588443715, 0.4562204863438488, -2.324133886977841, -1.497952120928045, 0.0,
+                  0.9522090563751986])
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    F = robot.fk(sols)
+    assert np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1).max() <= robot.position_tolerance
+    near = np.abs(wrap(sols - q)).max(axis=1)
+    assert near.min() < SOURCE_TOL, near.min()
+    arm = np.abs(wrap(sols[:, :3] - q[:3])).max(axis=1)
+    partner = sols[np.argmin(np.abs(wrap(sols[:, 3] + np.pi / 2)) + 10 * arm)]
+    assert abs(wrap(partner[3] + np.pi / 2)) < 1e-3 and np.abs(wrap(partner[:3] - q[:3])).max() < 1e-4
+    mid = 0.5 * (q[3] + partner[3])
+
+    def error(z):
+        x = np.r_[z[:3], mid, z[3:]]
+        G = robot.fk(x)
+        return np.r_[(G[:3, 3] - T[:3, 3]) / 1000.0, (G[:3, :3] - T[:3, :3]).ravel()]
+
+    fit = least_squares(error, np.r_[q[:3], q[4:]], method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)
+    x = np.r_[fit.x[:3], mid, fit.x[3:]]
+    assert np.linalg.norm(robot.fk(x)[:3, 3] - T[:3, 3]) > 1e4 * robot.position_tolerance
+
+
+@pytest.mark.parametrize(("name", "q"), [
+    ("irb5400", [-0.24862422239743287, 0.2716328418049967, 1.801130309225555, 3.1362840015668434, 0.0,
+                 -2.9265494285961964]),
+    ("generated(2)", [2.5722042780240306, -0.46668206247813604, 0.7722506049966582, -4.689114536393646e-05,
+                      -1.4974070137115995e-09, 0.6753392912808418]),
+])
+def test_straight_roots_where_the_reduced_residual_is_flat(name, q, irb):
+    """Two roots of the split's reduced residual closer than the stretch over which its
+    least-squares error stays below REDUCED_ROOT_TOL (the refinement's stop): on the IRB 5400
+    (q5 = 0) the source 6.9e-3 rad from a root next to the grid point q4 = pi, which is itself
+    within that error, and on generated(2) (q5 = -1.5e-9) a pair 8.9e-5 apart beside q4 = 0
+    under a dip of the grid. The refinement stopped at the known root (at the middle of the
+    pair), and the source's solution was missed: no answer within 6.8e-3 and 1.3 rad. Now
+    an end that is a root has its cell read again inside it, and a dip whose two refinements
+    stop at one point is refined to its brackets. The source's solution is an answer: one
+    within 2e-4 rad whose straight segment to the source meets the pose at 21 points."""
+    robot = irb if name == "irb5400" else generated(2)
+    q = np.array(q)
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    F = robot.fk(sols)
+    assert np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1).max() <= robot.position_tolerance
+    near = np.abs(wrap(sols - q)).max(axis=1)
+    s = sols[np.argmin(near)]
+    assert near.min() < 2e-4, near.min()
+    seg = robot.fk(q + np.linspace(0.0, 1.0, 21)[:, None] * wrap(s - q))
+    assert np.linalg.norm(seg[:, :3, 3] - T[:3, 3], axis=-1).max() <= robot.position_tolerance
+    assert np.abs(seg[:, :3, :3] - T[:3, :3]).max() <= 2 * robot.rotation_tolerance
 
 
 def test_beside_the_stretch_next_to_the_fold():

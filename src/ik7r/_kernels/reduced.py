@@ -20,6 +20,8 @@ from .constants import (
     CLOSED_TOL,
     DIP_NEAR,
     DIP_SHARP,
+    DUP_TOL,
+    FOLD_WINDOW,
     MAT_M,
     MAT_Q,
     MAT_R07,
@@ -35,6 +37,7 @@ from .constants import (
     REDUCED_ITERS,
     REDUCED_ROOT_TOL,
     REDUCED_SETTLE,
+    ROOT_END_STEP,
     SCAN_HEAD,
     SCAN_MEMO,
     SCAN_MEMO_TOL,
@@ -287,22 +290,52 @@ def dips_to_zero(r0, r1, r2):
 
 
 @njit
-def _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO):
+def _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO, settle=True):
     """Refine the root of the reduced residual bracketed by [va, vb] (``ra``, ``rb`` of opposite
     signs) by Illinois (:func:`ik7r._kernels.poly.illinois_step`), each point Gauss-Newton from
     the one before (``qt``, left at the root), until the residual the last step would leave is
     below REDUCED_ROOT_TOL: closer in ``v`` is worth nothing, since ``qt`` stays up to
     REDUCED_SETTLE from the point that step reaches (bisecting the bracket down to 1e-11 took
-    twice the reduced residuals near the shoulder set, about a sixth of a pose's)."""
+    twice the reduced residuals near the shoulder set, about a sixth of a pose's). Not with
+    ``settle`` False: then only the bracket (1e-11) or an exact zero stops it, for a bracket
+    beside a root whose residual stays below REDUCED_ROOT_TOL over much of it (see
+    :func:`_inside_ends`), where the first such point would be that root's, not the bracket's."""
     side = 0
     for _ in range(40):
         v = secant_point(va, vb, ra, rb)
         r, res, ok = _reduced_at(qt, j, v, Td, K, T, J, A, e, g, dq, ZO)
-        if not ok or r == 0.0 or res <= REDUCED_ROOT_TOL:
+        if not ok or r == 0.0 or (settle and res <= REDUCED_ROOT_TOL):
             return
         va, vb, ra, rb, side, _ = illinois_step(va, vb, ra, rb, side, v, r)
         if abs(vb - va) <= 1e-11:
             return  # (the polish of accept takes it to the last bits)
+
+
+@njit
+def _inside_ends(qt, qb, xb, j, va, vb, ra, rb, root_a, root_b, Td, K, T, J, A, e, g, dq, ZO):
+    """The bracket of a cell with a sign change whose end ``va`` (``root_a``) or ``vb``
+    (``root_b``) is itself a root: that end moved ROOT_END_STEP of the cell inside, its residual
+    there by Gauss-Newton from the end's point (``qt`` at ``va``, ``qb`` at ``vb``; ``xb`` (6,)
+    a work array). Returns
+    (whether the moved bracket still changes sign, va, vb, ra, rb), with ``qt`` left at the
+    point of its new ``va``: a sign change that is only the end root's own is gone, one that
+    holds another root inside the cell stays (see ROOT_END_STEP)."""
+    step = ROOT_END_STEP * (vb - va)
+    if root_b:
+        for i in range(6):
+            xb[i] = qb[i]
+        r, _, ok = _reduced_at(xb, j, vb - step, Td, K, T, J, A, e, g, dq, ZO)
+        if not ok:
+            return False, va, vb, ra, rb
+        vb = vb - step
+        rb = r
+    if root_a:
+        r, _, ok = _reduced_at(qt, j, va + step, Td, K, T, J, A, e, g, dq, ZO)
+        if not ok:
+            return False, va, vb, ra, rb
+        va = va + step
+        ra = r
+    return ra * rb < 0.0, va, vb, ra, rb
 
 
 @njit
@@ -396,7 +429,7 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
     rs = np.empty(m + 1)
     es = np.empty(m + 1)
     qt = np.empty(6)
-    th6 = np.empty(6)  # (the other wrist at a dip: see other_wrist)
+    th6 = np.empty(6)  # (scratch: the other wrist at a dip, see other_wrist; a moved cell end)
     M3 = np.empty((4, 4))
     Q3 = np.empty((3, 3))
     W3 = np.empty((3, 3))
@@ -447,6 +480,17 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
                 qt[i] = qs[k, i]
             _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO)
             count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
+            if es[k] <= REDUCED_ROOT_TOL or es[k + 1] <= REDUCED_ROOT_TOL:
+                # an end that is itself a root, where Illinois stops: a second root inside?
+                for i in range(6):
+                    qt[i] = qs[k, i]
+                inner, va, vb, ra, rb = _inside_ends(qt, qs[k + 1], th6, j, va, vb, ra, rb,
+                                                     es[k] <= REDUCED_ROOT_TOL,
+                                                     es[k + 1] <= REDUCED_ROOT_TOL, Td, K, T, J,
+                                                     A, e, g, dq, ZO)
+                if inner:
+                    _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO, False)
+                    count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
         else:
             # a dip of |e| without a sign change: a tangency, or two roots within one cell; where
             # the bottom has the other sign, both roots are refined
@@ -467,12 +511,19 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
             count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
             if okm and rm * ra < 0.0:
                 v_lo = v0 + (v1 - v0) * (k - 1) / m
-                for vx, rx in ((v_lo, rs[kb]), (vb, rb)):
-                    for i in range(6):
-                        qt[i] = qm[i]
-                    _reduced_root(qt, j, min(vx, vm), max(vx, vm), rx if vx < vm else rm,
-                                  rm if vx < vm else rx, Td, K, T, J, A, e, g, dq, ZO)
-                    count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
+                for settle in (True, False):
+                    for vx, rx in ((v_lo, rs[kb]), (vb, rb)):
+                        for i in range(6):
+                            th6[i] = qt[i]  # (the first root, when this is the second)
+                            qt[i] = qm[i]
+                        _reduced_root(qt, j, min(vx, vm), max(vx, vm), rx if vx < vm else rm,
+                                      rm if vx < vm else rx, Td, K, T, J, A, e, g, dq, ZO, settle)
+                        count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
+                    if apart(th6, qt) > DUP_TOL or math.pi - bend(qm, K) < FOLD_WINDOW:
+                        break
+                    # (both stopped at one point, where the residual is below REDUCED_ROOT_TOL
+                    # across the bottom: two roots closer than that, refined to their brackets;
+                    # not at the fully bent wrist, whose two wrist solutions that close are one)
             elif bend(qm, K) > STRAIGHT_DEVIATING:
                 # a bottom that is no root: the other wrist of its arm may be a solution on a
                 # sheet this curve never reaches (it can cross the fully bent wrist, q5 = pi,
