@@ -312,15 +312,16 @@ def _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO, settle=Tr
 
 
 @njit
-def _inside_ends(qt, qb, xb, j, va, vb, ra, rb, root_a, root_b, Td, K, T, J, A, e, g, dq, ZO):
+def _inside_ends(qa, qb, qt, xb, j, va, vb, ra, rb, root_a, root_b, Td, K, T, J, A, e, g, dq, ZO):
     """The bracket of a cell with a sign change whose end ``va`` (``root_a``) or ``vb``
     (``root_b``) is itself a root: that end moved ROOT_END_STEP of the cell inside, its residual
-    there by Gauss-Newton from the end's point (``qt`` at ``va``, ``qb`` at ``vb``; ``xb`` (6,)
-    a work array). Returns
-    (whether the moved bracket still changes sign, va, vb, ra, rb), with ``qt`` left at the
-    point of its new ``va``: a sign change that is only the end root's own is gone, one that
-    holds another root inside the cell stays (see ROOT_END_STEP)."""
+    there by Gauss-Newton from the end's point (``qa`` at ``va``, ``qb`` at ``vb``; ``qt`` and
+    ``xb`` (6,) work arrays). Returns (whether the moved bracket still changes sign, va, vb, ra,
+    rb), with ``qt`` left at the point of its new ``va``: a sign change that is only the end
+    root's own is gone, one that holds another root inside the cell stays (see ROOT_END_STEP)."""
     step = ROOT_END_STEP * (vb - va)
+    for i in range(6):
+        qt[i] = qa[i]
     if root_b:
         for i in range(6):
             xb[i] = qb[i]
@@ -480,14 +481,12 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
                 qt[i] = qs[k, i]
             _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO)
             count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
-            if es[k] <= REDUCED_ROOT_TOL or es[k + 1] <= REDUCED_ROOT_TOL:
+            root_a = es[k] <= REDUCED_ROOT_TOL
+            root_b = es[k + 1] <= REDUCED_ROOT_TOL
+            if root_a or root_b:
                 # an end that is itself a root, where Illinois stops: a second root inside?
-                for i in range(6):
-                    qt[i] = qs[k, i]
-                inner, va, vb, ra, rb = _inside_ends(qt, qs[k + 1], th6, j, va, vb, ra, rb,
-                                                     es[k] <= REDUCED_ROOT_TOL,
-                                                     es[k + 1] <= REDUCED_ROOT_TOL, Td, K, T, J,
-                                                     A, e, g, dq, ZO)
+                inner, va, vb, ra, rb = _inside_ends(qs[k], qs[k + 1], qt, th6, j, va, vb, ra, rb,
+                                                     root_a, root_b, Td, K, T, J, A, e, g, dq, ZO)
                 if inner:
                     _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO, False)
                     count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
