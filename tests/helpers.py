@@ -83,14 +83,10 @@ def random_full_q(rng, n):
 
 
 def source_distance(robot, sols, q):
-    """Largest joint difference (rad, wrapped) from ``q`` to its nearest answer; at a straight
-    wrist (|q5| < 1e-3) q4 and q7 are compared through the defined sum s4 q4 + s7 q7 only."""
+    """Largest joint difference (rad, wrapped, every joint) from ``q`` to its nearest answer.
+    Where the pose leaves the answers a valley (the split q4/q7 of a nearly straight wrist, the
+    shoulder set) a source farther than this may still be one solution with an answer:
+    ``reference_ik.among`` decides that by the poses along the way."""
     if len(sols) == 0:
         return np.inf
-    full = np.abs(wrap(sols - q)).max(axis=1).min()
-    if abs(wrap(q[4])) >= 1e-3:
-        return full
-    s4, s7 = robot.joint_sign[3], robot.joint_sign[6]
-    rest = np.abs(wrap(sols[:, [0, 1, 2, 4]] - q[[0, 1, 2, 4]])).max(axis=1)
-    total = np.abs(wrap(s4 * sols[:, 3] + s7 * sols[:, 5] - s4 * q[3] - s7 * q[5]))
-    return min(full, np.maximum(rest, total).min())
+    return np.abs(wrap(sols - q)).max(axis=1).min()

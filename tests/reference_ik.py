@@ -574,27 +574,93 @@ def singular_joints(robot, rng, kind, n):
     return np.array([ch.joints(t) for t in th])
 
 
-def among(robot, sols, q, T, tol=1e-6):
-    """Whether joints ``q`` (a solution of the pose ``T``) are among ``sols`` (M, 6): within ``tol``
-    rad in every joint (at a straight wrist, abs(q5) < 1e-4: in q1, q2, q3, q5 and
-    ``s4 q4 + s7 q7``), or joined to an answer less than 1e-2 rad away by a segment whose 9
-    points all meet the pose (where the forward kinematics is flat to high order an exact
-    solution is a valley of poses equal within the tolerance, and any point of it is that
-    solution); the segment is checked on this module's forward kinematics."""
-    ch = Chain(robot)
+def among(robot, sols, q, T, tol=1e-6, reach=1e-2):
+    """Whether joints ``q`` (a solution of the pose ``T``) are one solution with an answer of
+    ``sols`` (M, 6). Every joint counts; only a path of poses met within the tolerance joins two
+    joint vectors that differ by more than ``tol`` rad. In order:
+
+    1. an answer within ``tol`` rad in every joint;
+    2. at a straight wrist (both abs(q5) < 1e-4) an answer with q1, q2, q3, q5 and
+       ``s4 q4 + s7 q7`` within ``tol``, when the split turned from ``q``'s to the answer's (q4
+       turned, q7 back by the same: 9 points with ``q``'s other joints, then half way on to the
+       answer) meets the pose: on the idealised family the split of an exactly straight wrist is
+       free, but on a model that deviates from it (or with the wrist bent at all) the pose may
+       fix it, and then the sum alone would pass another solution (where the wrist is bent at
+       all, the arm may have to follow the turn: then the path of least pose error of 4.);
+    3. an answer less than ``reach`` rad away (every joint) joined to ``q`` by a segment whose 9
+       points meet the pose (where the forward kinematics is flat to high order an exact
+       solution is a valley of poses equal within the tolerance, and any point of it is that
+       solution);
+    4. the same answer joined by the path of least pose error (:func:`least_error_path_meets`),
+       for valleys that curve away from the segment.
+
+    Every pose is computed with this module's forward kinematics."""
     sols = np.asarray(sols).reshape(-1, 6)
     if len(sols) == 0:
         return False
-    if any(_same(ch, q, s, tol) for s in sols):
+    d = np.abs(_wrap(sols - q))
+    if d.max(axis=1).min() <= tol:
         return True
-    k = int(np.argmin(np.abs(_wrap(sols - q)).max(axis=1)))
+    ch = Chain(robot)
+    for s in sols[_straight_matches(ch, sols, q, tol)]:
+        turn = _wrap(s[3] - q[3])  # q4 turned, q7 back by the same (s4 q4 + s7 q7 kept)
+        path = np.repeat(q[None], 10, axis=0)
+        path[:9, 3] += np.linspace(0.0, 1.0, 9) * turn
+        path[:9, 5] -= ch.sign[6] * ch.sign[3] * np.linspace(0.0, 1.0, 9) * turn
+        path[9] = path[8] + 0.5 * _wrap(s - path[8])  # then on to the answer (within tol)
+        if _meets(ch, T, s[None]) and (_meets(ch, T, path) or least_error_path_meets(robot, T, q, s)):
+            return True
+    k = int(np.argmin(d.max(axis=1)))
     step = _wrap(sols[k] - q)
-    if np.abs(step).max() >= 1e-2:
+    if np.abs(step).max() >= reach:
         return False
-    F = ch.fk(q + np.linspace(0.0, 1.0, 9)[:, None] * step)
+    return (_meets(ch, T, q + np.linspace(0.0, 1.0, 9)[:, None] * step)
+            or least_error_path_meets(robot, T, q, sols[k]))
+
+
+def _straight_matches(ch, sols, q, tol, straight=1e-4):
+    """Which answers match ``q`` at a straight wrist in q1, q2, q3, q5 and the sum s4 q4 + s7 q7."""
+    if abs(_wrap(q[4])) >= straight:
+        return np.zeros(len(sols), bool)
+    rest = np.abs(_wrap(sols[:, [0, 1, 2, 4]] - q[[0, 1, 2, 4]])).max(axis=1)
+    s4, s7 = ch.sign[3], ch.sign[6]
+    total = np.abs(_wrap(s4 * (sols[:, 3] - q[3]) + s7 * (sols[:, 5] - q[5])))
+    return (np.abs(_wrap(sols[:, 4])) < straight) & (np.maximum(rest, total) <= tol)
+
+
+def _meets(ch, T, Q):
+    """Whether every joint vector of ``Q`` (n, 6) meets the pose ``T`` (position: the robot's
+    tolerance plus the rounding of two FK products; rotation: 1e-12)."""
+    F = ch.fk(Q)
     dp = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1)
     dr = np.abs(F[:, :3, :3] - T[:3, :3]).max(axis=(1, 2))
     return bool(np.all(dp <= ch.tol + 1e-12 * max(1.0, ch.size / 1e3)) and np.all(dr <= 1e-12))
+
+
+def least_error_path_meets(robot, T, a, b, steps=20):
+    """Whether the exact joint vectors ``a`` and ``b`` are one solution along the path of least
+    pose error between them: the joint of their largest difference stepped from one to the other
+    in ``steps`` steps, the five others by Levenberg-Marquardt (scipy, on this module's residual
+    and Jacobian) converged from the point before; every point must meet the pose."""
+    ch = Chain(robot)
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    j = int(np.argmax(np.abs(_wrap(b - a))))
+    free = [i for i in range(6) if i != j]
+    x = a.copy()
+    for v in a[j] + np.linspace(0.0, 1.0, steps + 1)[1:-1] * _wrap(b[j] - a[j]):
+        x[j] = v
+
+        def both(z, x=x):
+            y = x.copy()
+            y[free] = z
+            r, J = _residual_and_jacobian(ch, T, y)
+            return r, J[:, free]
+
+        x[free] = least_squares(lambda z: both(z)[0], x[free], jac=lambda z: both(z)[1], method="lm",
+                                xtol=1e-15, ftol=1e-15, gtol=1e-15).x
+        if not _meets(ch, T, x[None]):
+            return False
+    return True
 
 
 def exact(robot, sols, T, margin=1e-12):

@@ -563,6 +563,10 @@ def test_reduced_scans_that_join_a_curve_take_its_grid(monkeypatch):
         return compiled(*args)
 
     monkeypatch.setattr(_reduced, "_reduced_at", counted)  # (seen by _reduced_scan's original)
+    # (and by the refinements as written: a compiled one not in numba's cache would be compiled
+    # here, against the counter, which numba cannot type)
+    monkeypatch.setattr(_reduced, "_reduced_root", _reduced._reduced_root.py_func)
+    monkeypatch.setattr(_reduced, "_inside_ends", _reduced._inside_ends.py_func)
 
     def scan(arm, count):
         """The family's scan as _straight_family starts it: q4 = -pi, q5 = 0, the sum kept."""
