@@ -233,10 +233,12 @@ REDUCED_SETTLE = 1e-5
 REDUCED_ROOT_TOL = 1e-9
 #: ... and where an end of a cell with a sign change is itself a root (its error ``|e|`` below
 #: REDUCED_ROOT_TOL), Illinois stops at that end's root: the change may be that root's own with
-#: a second root inside the cell. The cell's signs are then read again ROOT_END_STEP of the cell
-#: inside such an end, and a change there is refined too (rounded_gen2, a straight wrist: roots
-#: of the split at q4 = -pi/2 - 2e-5, next to a grid point, and 0.073 rad inside its cell; see
-#: :func:`ik7r._kernels.reduced.reduced_scan`)
+#: a second root inside the cell. The cell is then refined again down to its bracket (a root
+#: between the end and the read below: the IRB 5400, a straight wrist, roots of the split at
+#: q4 = pi - 2.7e-4 and pi + 1.6e-4 astride a grid point), and its signs are read again
+#: ROOT_END_STEP of the cell inside such an end, a change there refined too (rounded_gen2, a
+#: straight wrist: roots of the split at q4 = -pi/2 - 2e-5, next to a grid point, and 0.073 rad
+#: inside its cell; see :func:`ik7r._kernels.reduced.reduced_scan`)
 ROOT_END_STEP = 1e-2
 #: ... and a scan over the whole turn whose last point is within this (rad, every joint) of its
 #: first has come back to its start: a closed curve (see :func:`reduced_scan`)

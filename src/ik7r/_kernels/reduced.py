@@ -20,7 +20,6 @@ from .constants import (
     CLOSED_TOL,
     DIP_NEAR,
     DIP_SHARP,
-    DUP_TOL,
     FOLD_WINDOW,
     MAT_M,
     MAT_Q,
@@ -297,9 +296,10 @@ def _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO, settle=Tr
     below REDUCED_ROOT_TOL: closer in ``v`` is worth nothing, since ``qt`` stays up to
     REDUCED_SETTLE from the point that step reaches (bisecting the bracket down to 1e-11 took
     twice the reduced residuals near the shoulder set, about a sixth of a pose's). Not with
-    ``settle`` False: then only the bracket (1e-11) or an exact zero stops it, for a bracket
-    beside a root whose residual stays below REDUCED_ROOT_TOL over much of it (see
-    :func:`_inside_ends`), where the first such point would be that root's, not the bracket's."""
+    ``settle`` False: then only the bracket (1e-11) or an exact zero stops it, for a residual
+    that stays below REDUCED_ROOT_TOL over much of the bracket (the split of a straight wrist;
+    a bracket beside a root, see :func:`_inside_ends`), where the first such point can be
+    another root's, or 0.01 rad from the bracket's."""
     side = 0
     for _ in range(40):
         v = secant_point(va, vb, ra, rb)
@@ -477,14 +477,25 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
         if kind == 0 or _scan_seen(memo, n, j, v0, v1, m, qs, kind, k, kb):
             continue
         if kind == 1:
+            # (the split of a straight wrist, j = 3, to the bracket: its residual can stay below
+            # REDUCED_ROOT_TOL over much of a cell, and the first point there be 0.01 rad from
+            # the root, too far for the polish in a valley that flat)
+            settle = j != 3
             for i in range(6):
                 qt[i] = qs[k, i]
-            _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO)
+            _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO, settle)
             count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
             root_a = es[k] <= REDUCED_ROOT_TOL
             root_b = es[k + 1] <= REDUCED_ROOT_TOL
             if root_a or root_b:
-                # an end that is itself a root, where Illinois stops: a second root inside?
+                # an end that is itself a root: refined the other way too (the early stop finds
+                # the end's root; to the bracket, a root between the end and ROOT_END_STEP
+                # inside it) ...
+                for i in range(6):
+                    qt[i] = qs[k, i]
+                _reduced_root(qt, j, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO, not settle)
+                count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
+                # ... and a second root inside?
                 inner, va, vb, ra, rb = _inside_ends(qs[k], qs[k + 1], qt, th6, j, va, vb, ra, rb,
                                                      root_a, root_b, Td, K, T, J, A, e, g, dq, ZO)
                 if inner:
@@ -509,20 +520,17 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
             qm = qt.copy()
             count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
             if okm and rm * ra < 0.0:
+                # each root refined to its bracket: the residual may stay below REDUCED_ROOT_TOL
+                # across the bottom, where both would stop at one point; not at the fully bent
+                # wrist, whose two wrist solutions that close are one
+                settle = math.pi - bend(qm, K) < FOLD_WINDOW
                 v_lo = v0 + (v1 - v0) * (k - 1) / m
-                for settle in (True, False):
-                    for vx, rx in ((v_lo, rs[kb]), (vb, rb)):
-                        for i in range(6):
-                            th6[i] = qt[i]  # (the first root, when this is the second)
-                            qt[i] = qm[i]
-                        _reduced_root(qt, j, min(vx, vm), max(vx, vm), rx if vx < vm else rm,
-                                      rm if vx < vm else rx, Td, K, T, J, A, e, g, dq, ZO, settle)
-                        count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
-                    if apart(th6, qt) > DUP_TOL or math.pi - bend(qm, K) < FOLD_WINDOW:
-                        break
-                    # (both stopped at one point, where the residual is below REDUCED_ROOT_TOL
-                    # across the bottom: two roots closer than that, refined to their brackets;
-                    # not at the fully bent wrist, whose two wrist solutions that close are one)
+                for vx, rx in ((v_lo, rs[kb]), (vb, rb)):
+                    for i in range(6):
+                        qt[i] = qm[i]
+                    _reduced_root(qt, j, min(vx, vm), max(vx, vm), rx if vx < vm else rm,
+                                  rm if vx < vm else rx, Td, K, T, J, A, e, g, dq, ZO, settle)
+                    count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
             elif bend(qm, K) > STRAIGHT_DEVIATING:
                 # a bottom that is no root: the other wrist of its arm may be a solution on a
                 # sheet this curve never reaches (it can cross the fully bent wrist, q5 = pi,
