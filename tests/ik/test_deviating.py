@@ -570,6 +570,38 @@ def test_a_straight_root_in_a_cell_flat_to_the_refinements_stop():
     assert np.abs(wrap(sols - q)).max(axis=1).min() < SOURCE_TOL
 
 
+_STRETCH_MEMBERS = [  # rounded family members (reference_ik.family_member, rounded=True): DH, source
+    ([[0, 0, 762, 0], [376, -math.pi / 2, -139, 0], [889, 0, 55, 0], [196, math.pi / 2, 859, 0],
+      [0, -0.5963790054064624, 90, 0], [0, 1.1929325437381242, 90, 0], [0, -0.5963790054064624, 133, 0]],
+     [1.1073398221014559, -0.7711586468792668, -1.7777572372248853, 0.8179983511607891,
+      0.03721296669326302, -0.33314201133031096]),
+    ([[0, 0, 557, 0], [395, math.pi / 2, 0, 0], [980, 0, 0, 0], [20, math.pi / 2, 881, 0],
+      [0, -0.7082546104592989, 116, 0], [0, 1.4166837538437973, 116, 0], [0, -0.7082546104592989, 138, 0]],
+     [1.2718132803994822, 2.546413366380052, -1.5914299863878831, 1.7671678227013032,
+      0.05322101203983376, 0.8875218531390443]),
+    ([[0, 0, 856, 0], [393, -math.pi / 2, -39, 0], [1019, 0, -96, 0], [45, math.pi / 2, 988, 0],
+      [0, -0.7253588371288434, 92, 0], [0, 1.450892207182886, 92, 0], [0, -0.7253588371288434, 132, 0]],
+     [1.8880554734184232, -1.1776028138304175, -1.6133498683465524, -2.2743480507537246,
+      -0.03109076099164243, -0.9413646844742027]),
+]
+
+
+@pytest.mark.parametrize(("dh", "q"), _STRETCH_MEMBERS)
+def test_nearly_straight_wrist_beside_the_stretched_elbow(dh, q):
+    """Rounded family members (twists off the mirror by 0.01 deg, lengths to 1 mm), the elbow
+    stretched (the idealised arm's elbow cosine at +-1) and the wrist bent by 0.03 .. 0.05 rad:
+    sources of a hunt over 60 random members (stretched-elbow poses, 300 each). Near the
+    stretch the arm is singular and the deviation moves the exact solutions far: there the
+    nominal model has none near the source, and the exact ones come in pairs (q5 = 0.029 and
+    0.037 on the first) of which the polish of the nominal candidates found one. The arm's
+    straight-wrist family (the reduced residual in q4 over the whole turn) is now scanned from
+    candidates bent by less than STRAIGHT_SHOULDER where the elbow is within STRETCH_DEVIATING
+    of stretched, as near the shoulder set. The source is among the answers."""
+    robot = Robot(name="member", dh=np.array(dh, float))
+    assert robot.family.deviation > 0.0
+    assert misses(robot, np.array([q])) == []
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_straight_wrist_of_generated_members_over_many_poses(seed):
     """generated(0..2), 1,000 poses at the straight wrist (q5 = 0) and 1,000 within 1e-9 .. 1e-3

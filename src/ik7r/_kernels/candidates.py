@@ -37,7 +37,7 @@ from .joints import (
 )
 from .poly import linear_system
 from .reduced import straight_family
-from .singular import fold_snap, near_shoulder
+from .singular import fold_snap, near_shoulder, near_stretch
 from .wrist import theta5_cs_of_d, theta5_of_bend
 
 
@@ -55,7 +55,7 @@ def wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, fil
     qq = ws[W_QQ:W_QQ + 6]  # q completed with a wrist solution
     if K[L.DEVIATION] > 0.0 and t5 < STRAIGHT_SHOULDER:
         shoulder = near_shoulder(th, K)
-        window = STRAIGHT_SHOULDER if shoulder else STRAIGHT_DEVIATING
+        window = STRAIGHT_SHOULDER if shoulder or near_stretch(th, K) else STRAIGHT_DEVIATING
         # (the bend of the arm's own target: a root clamped to the end of the range is not enough)
         if t5 < window and theta5_of_bend(Q, K) < window:
             count = straight_family(q, Q, Td, K, out, count, ws, mats, shoulder)

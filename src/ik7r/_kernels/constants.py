@@ -210,8 +210,13 @@ STRAIGHT_DEVIATING = 2e-2
 #: SHOULDER_DEVIATING of the robot's size from axis 1): there the deviation spreads the family's
 #: solutions further (to |q5| = 0.07 on the IRB 5400; a rounded member with a1 = 32 mm had its
 #: nominal candidates at theta5 = 0.105 and 0.18 and exact solutions at 0.054 and 0.127).
+#: So does an arm whose elbow is within STRETCH_DEVIATING of stretched (the sine of the elbow's
+#: angle from it): there the arm is singular too, and rounded members with the elbow stretched
+#: had exact pairs at q5 = 0.029 and 0.037, 0.031, 0.053 that only the scan found (their nominal
+#: candidates 2e-4 .. 1.6e-3 from the stretch).
 STRAIGHT_SHOULDER = 0.2
 SHOULDER_DEVIATING = 1e-2
+STRETCH_DEVIATING = 3e-2
 REDUCED_GRID = 48
 #: ... and a grid value of the reduced residual below this fraction of both its neighbours (one
 #: sign) is a dip to minimise (see :func:`dips_to_zero`)

@@ -2,8 +2,9 @@
 line of virtual wrist centres (``p``, ``a``: frame 7's origin and axis in the base frame).
 
 Small predicates the scans share: the fold of a (nearly) 45 deg twist (``u_fold``,
-``fold_snap``), the line's distance from axis 1 (``line_to_axis1``, ``shoulder_offset``) and
-whether the whole turn of joint 1 is scanned there (``turn_scanned``).
+``fold_snap``), the line's distance from axis 1 (``line_to_axis1``, ``shoulder_offset``),
+whether the whole turn of joint 1 is scanned there (``turn_scanned``), and whether an arm is near
+the shoulder set or has its elbow near stretched (``near_shoulder``, ``near_stretch``).
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ from __future__ import annotations
 import math
 
 from . import params as L
-from .constants import FOLD_SNAP, FOLD_WINDOW, SHOULDER_DEVIATING, SHOULDER_EXACT_NEAR
+from .constants import FOLD_SNAP, FOLD_WINDOW, SHOULDER_DEVIATING, SHOULDER_EXACT_NEAR, STRETCH_DEVIATING
 from .jit import njit
 
 
@@ -78,3 +79,15 @@ def near_shoulder(th, K):
     x2 = K[L.A2] + K[L.A3] * c3 + e3 * Ld * s3
     y2 = K[L.A3] * s3 - e3 * Ld * c3
     return abs(K[L.A1] + c2 * x2 - s2 * y2) < SHOULDER_DEVIATING * K[L.SCALE]
+
+
+@njit
+def near_stretch(th, K):
+    """Whether the arm of DH cosines and sines ``th`` (see :func:`arm_from_psi`) has its elbow
+    within STRETCH_DEVIATING of stretched or folded for the straight wrist's virtual centre: the
+    sine of ``theta3 - atan2(eps3 L, a3)``, ``L = d4 + KW`` (the elbow's angle from the line of
+    the upper arm, :func:`ik7r._kernels.arm.arm_cs`)."""
+    Ld = K[L.D4] + K[L.KW]
+    a3 = K[L.A3]
+    return abs(th[5] * a3 - th[2] * K[L.EPS3] * Ld) < STRETCH_DEVIATING * math.hypot(a3, Ld)
+
