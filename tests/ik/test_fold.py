@@ -261,3 +261,43 @@ def test_deviating_45_deg_fold_every_source_found(name):
         if near > ONE_SOLUTION and not found(robot, sols[valid], q, Tq):
             misses.append(q.tolist())
     assert misses == []
+
+
+#: Exact 45 deg members with a lateral offset (reference_ik.family_member, drawn by a hunt over
+#: random members; their rounding leaves them exact): DH, source with the elbow stretched.
+_STRETCHED_BESIDE_FOLD = [
+    ([[0.0, 0.0, 188.0, 0.0], [375.0, math.pi / 2, -91.0, 0.0], [960.0, 0.0, 138.0, 0.0],
+      [139.0, -math.pi / 2, 1274.0, 0.0], [0.0, -math.pi / 4, 80.0, 0.0],
+      [0.0, math.pi / 2, 80.0, 0.0], [0.0, -math.pi / 4, 122.0, 0.0]],
+     [-1.878828052010534, 1.6287998728109585, -1.5455797824442135, 2.375359653268964, -2.909983885373652,
+      -2.1730582392143916]),
+    ([[0.0, 0.0, 78.0, 0.0], [365.0, -math.pi / 2, -108.0, 0.0], [861.0, 0.0, 82.0, 0.0],
+      [5.0, -math.pi / 2, 919.0, 0.0], [0.0, -math.pi / 4, 132.0, 0.0],
+      [0.0, math.pi / 2, 132.0, 0.0], [0.0, -math.pi / 4, 183.0, 0.0]],
+     [-0.1865071404555141, -1.4461207812065888, 1.571821273864117, -2.851229638375929, 2.833293999087065,
+      1.3146895874877051]),
+]
+
+
+@pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
+    "open (issue 12 item 1): exact 45 deg members with a lateral offset, the elbow stretched and "
+    "the wrist 0.23 .. 0.31 rad from fully bent: two roots of the residual with theta5 within "
+    "1.4e-7 .. 2.6e-7, one per elbow branch, of which at most one comes back (docs/guide/edges.md, "
+    "sixth session of 2026-12-04)"))
+@pytest.mark.parametrize(("dh", "q"), _STRETCHED_BESIDE_FOLD)
+def test_stretched_elbow_beside_the_fold_of_an_exact_45_deg_member(dh, q):
+    """Exact family members (deviation 0) with the 45 deg twist and a lateral offset (47 and -26
+    mm), the elbow stretched and the wrist 0.23 and 0.31 rad from fully bent. The reference finds
+    two pairs there, their theta5 within 1.4e-7 and 2.6e-7 and their arms 0.01 and 2e-5 rad apart
+    (the two elbow branches beside the stretch); ``ik_all`` returns one pair on the first robot
+    and neither on the second (6 of 8 and 8 of 12 answers). Every reference solution must be an
+    answer, and every answer exact."""
+    from reference_ik import among, reference_ik
+
+    robot = Robot(name="member", dh=np.array(dh, float))
+    assert robot.family.deviation == 0.0
+    T = robot.fk(np.array(q))
+    sols = robot.ik_all(T)
+    F = np.array([eq1_fk(robot, s) for s in sols])
+    assert np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=1).max() <= robot.position_tolerance + 1e-12
+    assert [x.tolist() for x in reference_ik(robot, T) if not among(robot, sols, x, T)] == []

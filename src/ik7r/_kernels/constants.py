@@ -188,6 +188,13 @@ GAP_NEAR_END = 0.2
 #: the polynomial.
 FOLD_NEAR = 0.02
 FOLD_SPAN = 0.05
+#: ... and on a model that deviates from the idealised one, where a shoulder branch's elbow falls
+#: short of the fold gap's centre by no more than this times the deviation (robot units) on a
+#: grid of FOLD_REACH_CELLS over the span, the exact model is followed from the stretched arm
+#: (see :func:`ik7r._kernels.scans._fold_beyond_reach`; the rounded 45 deg robot's missed sources
+#: had the nominal elbow 0.016 .. 0.07 mm short, its deviation 0.05; uniform poses 1.5 mm or more)
+FOLD_REACH_SLACK = 10.0
+FOLD_REACH_CELLS = 32
 #: ... and on a model that deviates from the idealised one, u down to this (of the range) below
 #: the fold too (the nominal roots there, theta5 clamped to pi, start exact solutions at the
 #: fold; 2e-2 found nothing more over 40,000 poses of four rounded 45 deg robots), on a grid of

@@ -207,7 +207,7 @@ def tiny_piece(ta, tb):
 
 
 @njit
-def fold_gap(sw, p, a, front, elbow, K, th, t1_in=0.0, in_plane=False):
+def fold_gap(sw, p, a, front, elbow, K, th, t1_in=0.0, in_plane=False, reach=0.0):
     """The fold gap at ``u = cos(2 beta) + sw^2`` (``sw^2 = 2 sin^2(beta) sin^2(eps / 2)``, eps =
     pi - theta5: ``sw >= 0`` grows with the distance from the fully bent wrist) on the arm
     branch (``front``, ``elbow``: +-1); zero exactly at solutions. Finite at the fold, where the
@@ -225,12 +225,20 @@ def fold_gap(sw, p, a, front, elbow, K, th, t1_in=0.0, in_plane=False):
     ``th[:6]`` (as :func:`arm_from_psi`), theta5 (DH, in [0, pi]) into ``th[6]`` and O4 (frame 0)
     into ``th[7:10]``. Returns (gap, ok); ok is False where the branch does not reach.
     ``in_plane``: theta1 is ``t1_in`` and the scaled virtual centre is taken in that arm plane
-    (``front`` unused; see :func:`_fold_axis_gap`)."""
-    ok, half, psi0, gamma, t20, t1, ox, oy, oz = _fold_arm(sw, p, a, front, K, t1_in, in_plane)
+    (``front`` unused; see :func:`_fold_axis_gap`). ``reach`` > 0: where the elbow falls short of
+    the centre by up to that much, the arm with the elbow stretched toward it."""
+    ok, _, half, psi0, gamma, t20, t1, ox, oy, oz = _fold_arm(sw, p, a, front, K, t1_in, in_plane, reach)
     if not ok:
         return 0.0, False
     return _fold_branch(elbow, half, psi0, gamma, t20, math.cos(t1), math.sin(t1), ox, oy, oz,
                         sw, K, th)
+
+
+@njit
+def fold_short(sw, p, a, front, K):
+    """How far the elbow of the fold gap's shoulder branch ``front`` (+-1) falls short of its
+    centre at ``sw`` (robot units; negative where it reaches, infinite where not computed)."""
+    return _fold_arm(sw, p, a, front, K, 0.0, False, 0.0)[1]
 
 
 @njit
@@ -239,7 +247,7 @@ def fold_gap_pair(sw, p, a, front, K, th):
     (gap, ok) of elbow +1, then of elbow -1, from one evaluation of the part they share (the
     centre, theta1, the elbow's half angle: about a third of a gap's transcendental calls). ``th``
     holds the arm of elbow -1."""
-    ok, half, psi0, gamma, t20, t1, ox, oy, oz = _fold_arm(sw, p, a, front, K, 0.0, False)
+    ok, _, half, psi0, gamma, t20, t1, ox, oy, oz = _fold_arm(sw, p, a, front, K, 0.0, False, 0.0)
     if not ok:
         return 0.0, False, 0.0, False
     c1, s1 = math.cos(t1), math.sin(t1)
@@ -249,10 +257,13 @@ def fold_gap_pair(sw, p, a, front, K, th):
 
 
 @njit
-def _fold_arm(sw, p, a, front, K, t1_in, in_plane):
-    """The part of :func:`fold_gap` its two elbow branches share: (ok, half, psi0, gamma, t20, t1,
-    ox, oy, oz): half the elbow's angle, psi = theta2 + theta3 and theta2 before the elbow's sign
-    (``psi0 + 2 elbow half``, ``t20 - elbow gamma``), theta1 (DH) and O, the centre of joint 6."""
+def _fold_arm(sw, p, a, front, K, t1_in, in_plane, reach):
+    """The part of :func:`fold_gap` its two elbow branches share: (ok, short, half, psi0, gamma,
+    t20, t1, ox, oy, oz): how far the elbow falls short of the centre (robot units; negative
+    where it reaches, infinite where that is not computed), half the elbow's angle, psi = theta2
+    + theta3 and theta2 before the elbow's sign (``psi0 + 2 elbow half``, ``t20 - elbow
+    gamma``), theta1 (DH) and O, the centre of joint 6. Short by no more than ``reach``: the
+    elbow stretched (half 0) toward the centre."""
     u = u_fold(K) + sw * abs(sw)  # (sw < 0: u below the fold, scanned for deviating models)
     kw = K[L.KW]
     a1, a2, a3, b, e1, e3, scale = arm_params(K)
@@ -274,10 +285,10 @@ def _fold_arm(sw, p, a, front, K, t1_in, in_plane):
         r2 = hx * hx + hy * hy
         if r2 <= (1e-13 * scale * u) ** 2 + (1e-13 * kw) ** 2:
             # the scaled virtual centre (nearly) on axis 1: _fold_axis_gap's
-            return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+            return False, math.inf, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         disc = r2 - (u * b) ** 2
         if disc < -(1e-12 * scale * u) ** 2:
-            return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+            return False, math.inf, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         rho = front * math.sqrt(max(disc, 0.0))  # u rho
         t1 = shoulder_angle(rho, hx, hy, u * bp)
     xx = rho - u * a1  # u X: the centre in the arm plane, from the shoulder
@@ -285,15 +296,18 @@ def _fold_arm(sw, p, a, front, K, t1_in, in_plane):
     nx = math.hypot(xx, xy)
     nv = math.hypot(u * a3, lh)  # u |v|, v = (a3, -eps3 L)
     if nx == 0.0 or nv == 0.0:
-        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        return False, math.inf, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     # |X|^2 - |v|^2 = D / u with the terms of order 1 / u^2 cancelled exactly
     dd = (u * (ox * ox + oy * oy + oz * oz - b * b + a1 * a1 + d1 * d1 - a3 * a3 - d4 * d4)
           - 2.0 * kw * (ox * a[0] + oy * a[1] + oz * a[2] + d4) - 2.0 * (a1 * rho + d1 * hz))
     su = 1.0 if u >= 0.0 else -1.0  # (u < 0: the scaled vectors point the other way)
     dt = su * dd / (nx + nv)  # |X| - |v|
     s2 = a2 * a2 - dt * dt
+    short = abs(dt) - a2
     if s2 < -1e-12 * a2 * a2:
-        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0  # the elbow does not reach
+        if not short <= reach:
+            return False, short, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0  # the elbow does not reach
+        s2 = 0.0
     root = math.sqrt(max(s2, 0.0) / (nx * nv))
     half = math.asin(min(1.0, 0.5 * abs(u) * root))  # half the angle between X and R(psi) v
     psi0 = math.atan2(xy, xx) - math.atan2(-e3 * lh, u * a3)
@@ -301,7 +315,7 @@ def _fold_arm(sw, p, a, front, K, t1_in, in_plane):
     # sines, both finite as u goes to 0)
     gamma = math.atan2(nv * root * math.cos(half) / a2, (su * dd + abs(u) * a2 * a2) / (2.0 * a2 * nx))
     t20 = math.atan2(su * xy, su * xx)  # (a2 > 0: ik7r.robot.family.frame_dh)
-    return True, half, psi0, gamma, t20, t1, ox, oy, oz
+    return True, short, half, psi0, gamma, t20, t1, ox, oy, oz
 
 
 @njit

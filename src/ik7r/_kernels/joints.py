@@ -176,9 +176,11 @@ def _completed(q, t4, t5, t7, K, qq):
 
 @njit
 def with_fold_wrist(q, Q, t5, c5, s5, az, K, mats, qq):
-    """``qq``: a copy of ``q`` (arm joints set) completed with the wrist for DH angle ``t5``
-    (cosine ``c5``, sine ``s5``), theta4 from the azimuth ``az`` of O - O4 about axis 4 (O - O4 =
-    dw (z5 + z6) lies at azimuth theta4 + mu(theta5) in frame 4 at theta4 = 0)."""
+    """Set ``qq`` to a copy of ``q`` (arm joints set) completed with the wrist for DH angle
+    ``t5`` (cosine ``c5``, sine ``s5``), theta4 from the azimuth ``az`` of O - O4 about axis 4
+    (O - O4 = dw (z5 + z6) lies at azimuth theta4 + mu(theta5) in frame 4 at theta4 = 0).
+    Returns nothing: a kernel that counts references (``allocates``) would release an array
+    it was given back."""
     sb = K[L.SB]
     dwsb = K[L.DW] * sb
     mu = math.atan2(dwsb * math.sqrt(1.0 - sb * sb) * (1.0 - c5), dwsb * s5)
@@ -188,4 +190,3 @@ def with_fold_wrist(q, Q, t5, c5, s5, az, K, mats, qq):
     wrist_rotation_cs(c5, s5, K, W)
     t7 = wrist_t7(Q, c4, s4, W)
     _completed(q, t4, t5, t7, K, qq)
-    return qq

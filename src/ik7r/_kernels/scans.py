@@ -23,6 +23,8 @@ from .constants import (
     FOLD_BELOW_CELLS,
     FOLD_END_NEAR,
     FOLD_NEAR,
+    FOLD_REACH_CELLS,
+    FOLD_REACH_SLACK,
     FOLD_SPAN,
     FOLD_WINDOW,
     GAP_NEAR_CELLS,
@@ -71,6 +73,7 @@ from .gaps import (
     fold_gap,
     fold_gap_pair,
     fold_near_axis,
+    fold_short,
     gap,
     gap_min,
     gap_root,
@@ -433,6 +436,68 @@ def _dip_scanned(t1, elbow, ws):
 
 
 @njit
+def _fold_azimuth(th, p, a, R07, K, ws, mats):
+    """The fold gap's arm ``th`` made into frame 3 (``mats[MAT_M]``, with the wrist's target
+    ``mats[MAT_Q]`` and the arm's user joints in ``ws[W_Q6:W_Q6 + 3]``: :func:`arm_frame`), and
+    the azimuth of O - O4 (O the centre of joint 6) about axis 4, in frame 3 turned by alpha3
+    (frame 4 at theta4 = 0), from which :func:`with_fold_wrist` takes theta4."""
+    arm_frame(th, R07, K, ws, mats)
+    M = mats[MAT_M]
+    d7 = K[L.D7]
+    vx = p[0] - d7 * a[0] - th[7]
+    vy = p[1] - d7 * a[1] - th[8]
+    vz = p[2] - d7 * a[2] - th[9]
+    x3 = M[0, 0] * vx + M[1, 0] * vy + M[2, 0] * vz
+    y3 = M[0, 1] * vx + M[1, 1] * vy + M[2, 1] * vz
+    z3 = M[0, 2] * vx + M[1, 2] * vy + M[2, 2] * vz
+    return math.atan2(K[L.NOMINAL_TRIG + 6] * y3 + K[L.NOMINAL_TRIG + 7] * z3, x3)
+
+
+@njit(allocates=True)
+def _fold_beyond_reach(p, a, R07, Td, K, out, count, ws, mats):
+    """A deviating model's solutions beside the fully bent wrist where the nominal arm falls
+    just short: on a twist near 45 deg the virtual centre goes to infinity at the fold, and the
+    wrist's deviation moves the exact solutions beyond the nominal arm's reach (the rounded 45
+    deg robot with the elbow stretched: the nominal elbow 0.016 to 0.07 mm short of the fold
+    gap's centre, the exact model reaching). Where a shoulder branch's elbow falls short by no
+    more than FOLD_REACH_SLACK times the deviation on FOLD_REACH_CELLS of the fold span, the
+    exact model's reduced residual in q5 (:func:`reduced_scan`) is followed from the stretched
+    arm at the least shortfall, each wrist, to the fold and to the end of the span."""
+    th = ws[W_TH:W_TH + NTH]
+    top = math.sqrt(FOLD_SPAN)
+    slack = FOLD_REACH_SLACK * K[L.DEVIATION]
+    start = np.empty(6)
+    for front in (1.0, -1.0):
+        least = math.inf
+        at = 0.0
+        for i in range(FOLD_REACH_CELLS + 1):
+            sw = top * i / FOLD_REACH_CELLS
+            short = fold_short(sw, p, a, front, K)
+            if 0.0 < short < least:
+                least = short
+                at = sw
+        if not least <= slack:
+            continue
+        _, ok = fold_gap(at, p, a, front, 1.0, K, th, 0.0, False, slack)
+        if not ok:
+            continue
+        az = _fold_azimuth(th, p, a, R07, K, ws, mats)
+        Q = mats[MAT_Q, :3, :3].copy()
+        q = ws[W_Q6:W_Q6 + 6].copy()
+        eps = fold_eps(at, K)
+        rest = fold_eps(top, K) - eps
+        for sgn in (1.0, -1.0):
+            for v in (eps, -rest):  # (theta5 to the fold, then back to the span's end)
+                if v == 0.0:
+                    continue
+                with_fold_wrist(q, Q, sgn * (math.pi - eps), -math.cos(eps), sgn * math.sin(eps), az,
+                                K, mats, start)
+                count = reduced_scan(start, 4, start[4], start[4] + K[L.SIGN + 4] * sgn * v,
+                                     REDUCED_GRID, Td, K, out, count, ws, mats)
+    return count
+
+
+@njit
 def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt, ws, mats,
                     t1=0.0, in_plane=False):
     """Complete the root ``sw`` of the fold gap on the branch (front, elbow) with the wrist and
@@ -446,24 +511,14 @@ def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, cou
         return count
     if filt >= 0 and not arm_may_match(th, filt, filter_margin(K), K):
         return count
-    arm_frame(th, R07, K, ws, mats)
-    M = mats[MAT_M]
+    az = _fold_azimuth(th, p, a, R07, K, ws, mats)
     Q = mats[MAT_Q, :3, :3]
-    # O - O4 in frame 3 turned by alpha3 (frame 4 at theta4 = 0): its azimuth about axis 4
-    d7 = K[L.D7]
-    vx = p[0] - d7 * a[0] - th[7]
-    vy = p[1] - d7 * a[1] - th[8]
-    vz = p[2] - d7 * a[2] - th[9]
-    x3 = M[0, 0] * vx + M[1, 0] * vy + M[2, 0] * vz
-    y3 = M[0, 1] * vx + M[1, 1] * vy + M[2, 1] * vz
-    z3 = M[0, 2] * vx + M[1, 2] * vy + M[2, 2] * vz
-    az = math.atan2(K[L.NOMINAL_TRIG + 6] * y3 + K[L.NOMINAL_TRIG + 7] * z3, x3)
     q = ws[W_Q6:W_Q6 + 6]
     qq = ws[W_QQ:W_QQ + 6]
     eps = fold_eps(sw, K)
     if eps < fold_snap(K):
-        count, exact = accept(with_fold_wrist(q, Q, math.pi, -1.0, 0.0, az, K, mats, qq), Td, K,
-                               out, count, mats, True)
+        with_fold_wrist(q, Q, math.pi, -1.0, 0.0, az, K, mats, qq)
+        count, exact = accept(qq, Td, K, out, count, mats, True)
         # (done unless the polish left this arm: with the approach along axis 1 the fold has
         # solutions of its own, which a start beside them may slide to)
         if exact and max(abs(wrap(qq[0] - q[0])), abs(wrap(qq[1] - q[1])),
@@ -471,12 +526,12 @@ def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, cou
             return count
     for sgn in (1.0, -1.0):
         t5 = sgn * (math.pi - eps)
-        count, _ = accept(with_fold_wrist(q, Q, t5, -math.cos(eps), sgn * math.sin(eps), az, K,
-                                            mats, qq), Td, K, out, count, mats)
+        with_fold_wrist(q, Q, t5, -math.cos(eps), sgn * math.sin(eps), az, K, mats, qq)
+        count, _ = accept(qq, Td, K, out, count, mats)
         if K[L.DEVIATION] > 0.0 and eps < NEAR_SINGULAR:  # (start off the singular fold too)
             alt = sgn * (math.pi - NEAR_SINGULAR)
-            count, _ = accept(with_fold_wrist(q, Q, alt, math.cos(alt), math.sin(alt), az, K,
-                                                mats, qq), Td, K, out, count, mats, False, False)
+            with_fold_wrist(q, Q, alt, math.cos(alt), math.sin(alt), az, K, mats, qq)
+            count, _ = accept(qq, Td, K, out, count, mats, False, False)
     return count
 
 
@@ -495,6 +550,8 @@ def scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
                              hint, has_hint, out, count, filt, ws, mats, 2.0, FOLD_BELOW_CELLS)
     count = scan_theta5(0.0, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint,
                          has_hint, out, count, filt, ws, mats, 2.0)
+    if K[L.DEVIATION] > 0.0:
+        count = _fold_beyond_reach(p, a, R07, Td, K, out, count, ws, mats)
     if fold_near_axis(p, a, K):
         # the approach (nearly) along axis 1: the fold gap in theta1 as well, and on a finer grid
         # next to the fold (two roots there can be within 1e-4 in sw, one cell of the grid above)
