@@ -492,7 +492,10 @@ def _fold_beyond_reach(p, a, R07, Td, K, out, count, ws, mats):
                     continue
                 with_fold_wrist(q, Q, sgn * (math.pi - eps), -math.cos(eps), sgn * math.sin(eps), az,
                                 K, mats, start)
-                count = reduced_scan(start, 4, start[4], start[4] + K[L.SIGN + 4] * sgn * v,
+                # (from a cell behind the start: the scan sees no dip in its first cell, and the
+                # stretched arm's own pair of roots, one per elbow, may lie right there)
+                step = K[L.SIGN + 4] * sgn * v
+                count = reduced_scan(start, 4, start[4] - step / REDUCED_GRID, start[4] + step,
                                      REDUCED_GRID, Td, K, out, count, ws, mats)
     return count
 
