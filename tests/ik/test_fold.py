@@ -279,19 +279,18 @@ _STRETCHED_BESIDE_FOLD = [
 ]
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-    "open (issue 12 item 1): exact 45 deg members with a lateral offset, the elbow stretched and "
-    "the wrist 0.23 .. 0.31 rad from fully bent: two roots of the residual with theta5 within "
-    "1.4e-7 .. 2.6e-7, one per elbow branch, of which at most one comes back (docs/guide/edges.md, "
-    "sixth session of 2026-12-04)"))
 @pytest.mark.parametrize(("dh", "q"), _STRETCHED_BESIDE_FOLD)
 def test_stretched_elbow_beside_the_fold_of_an_exact_45_deg_member(dh, q):
     """Exact family members (deviation 0) with the 45 deg twist and a lateral offset (47 and -26
     mm), the elbow stretched and the wrist 0.23 and 0.31 rad from fully bent. The reference finds
     two pairs there, their theta5 within 1.4e-7 and 2.6e-7 and their arms 0.01 and 2e-5 rad apart
-    (the two elbow branches beside the stretch); ``ik_all`` returns one pair on the first robot
-    and neither on the second (6 of 8 and 8 of 12 answers). Every reference solution must be an
-    answer, and every answer exact."""
+    (the two elbow branches beside the stretch); ``ik_all`` returned one pair on the first robot
+    and neither on the second (6 of 8 and 8 of 12 answers). On the first the pair lies at a fold
+    gap's branch end (gaps of 0.005 to 0.17 at the ends there; an end is now a candidate on exact
+    members too, FOLD_END_NEAR); on
+    the second the arm reaches only over an island narrower than a cell of the fold scan's grid
+    (short by 2.8e-4 mm at the nearest grid point), now followed from the stretched arm
+    (FOLD_REACH_ISLAND). Every reference solution must be an answer, and every answer exact."""
     from reference_ik import among, reference_ik
 
     robot = Robot(name="member", dh=np.array(dh, float))
@@ -301,3 +300,29 @@ def test_stretched_elbow_beside_the_fold_of_an_exact_45_deg_member(dh, q):
     F = np.array([eq1_fk(robot, s) for s in sols])
     assert np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=1).max() <= robot.position_tolerance + 1e-12
     assert [x.tolist() for x in reference_ik(robot, T) if not among(robot, sols, x, T)] == []
+
+
+@pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
+    "open (issue 12 item 1): an exact 45 deg member with a lateral offset, the elbow stretched "
+    "where the fold gap's two shoulder branches meet (the centre at the lateral offset's "
+    "distance from axis 1), the wrist 0.42 rad from fully bent (docs/guide/edges.md, sixth "
+    "session of 2026-12-04)"))
+def test_stretched_elbow_where_the_shoulder_branches_meet_beside_the_fold():
+    """An exact family member (deviation 0, 45 deg twist, lateral offset 169 mm), the elbow
+    stretched and the wrist 0.42 rad from fully bent, at sw = 0.2094 of the fold scan: between
+    0.2028 and 0.2098 the fold gap's centre passes within the lateral offset of axis 1, where its
+    two shoulder branches meet (one of them reaches from 0.2094 on). The reference finds the
+    source; ``ik_all`` does not (one of the random-member hunts' 100,000 poses of seed 3)."""
+    from reference_ik import among
+
+    dh = [[0.0, 0.0, 424.0, 0.0], [382.0, math.pi / 2, 90.0, 0.0], [1364.0, 0.0, 79.0, 0.0],
+          [13.0, -math.pi / 2, 964.0, 0.0], [0.0, -math.pi / 4, 70.0, 0.0],
+          [0.0, math.pi / 2, 70.0, 0.0], [0.0, -math.pi / 4, 74.0, 0.0]]
+    robot = Robot(name="member", dh=np.array(dh, float))
+    assert robot.family.deviation == 0.0
+    q = np.array([1.869370418662899, 1.0244325423275784, 1.5770081885997977, -2.5128381538380413,
+                  -2.719653027608251, 2.2610110955764764])
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    assert among(robot, sols, q, T)
+

@@ -510,7 +510,9 @@ def test_isolate_bounded_where_the_residual_stays_at_rounding(monkeypatch):
 def test_fold_gap_pair_is_the_fold_gap_of_each_elbow():
     """``_fold_gap_pair`` (both elbow branches from one evaluation of the arm they share) gives
     exactly :func:`_fold_gap`'s value and ``ok`` of each elbow, bit for bit, on a 45 deg member
-    with offsets (the fold scan's robots) over the fold span and below it; both ``ok`` occur."""
+    with offsets (the fold scan's robots) over the fold span and below it; both ``ok`` occur.
+    Its shortfall (how far the elbow falls short of the centre) is positive exactly where
+    neither elbow reaches, and with that much ``reach`` the fold gap gives the stretched arm."""
     b = math.radians(45.0)
     dh = np.array([[0, 0, 400, 0], [250, math.pi / 2, 0, 0], [1100, 0, 0, 0], [150, math.pi / 2, 1200, 0],
                    [0, -b, 90, 0], [0, 2 * b, 90, 0], [0, -b, 110, 0]], float)
@@ -527,8 +529,13 @@ def test_fold_gap_pair_is_the_fold_gap_of_each_elbow():
                 pair = _gaps.fold_gap_pair(sw, p, a, front, K, th)
                 one = (_gaps.fold_gap(sw, p, a, front, 1.0, K, th)
                        + _gaps.fold_gap(sw, p, a, front, -1.0, K, th))
-                assert pair == one, (sw, front)
+                assert pair[:4] == one, (sw, front)
                 seen.update((pair[1], pair[3]))
+                short = pair[4]
+                assert (short > 0.0) == (not (pair[1] or pair[3])) or abs(short) < 1e-9, (sw, front, short)
+                if 0.0 < short < math.inf:
+                    _, ok = _gaps.fold_gap(sw, p, a, front, 1.0, K, th, 0.0, False, short * (1 + 1e-9))
+                    assert ok, (sw, front, short)
     assert seen == {True, False}
 
 

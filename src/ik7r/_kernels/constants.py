@@ -174,7 +174,9 @@ GAP_NEAR_DEPTH = 0.03
 #: deviating model's arm branch ends (the elbow stretched) where the nominal one does not: the
 #: fold scan takes a branch's end itself as a candidate when the fold gap there is below this
 #: (rad; 0.02 .. 0.025 seen on the rounded 45 deg robot of benchmarks/edges.py, and 0.152 at an
-#: end 0.022 in sw before the exact solution: tests/ik/test_deviating.py)
+#: end 0.022 in sw before the exact solution: tests/ik/test_deviating.py). On the idealised model
+#: too: an exact 45 deg member with a lateral offset had a pair of solutions, one per elbow,
+#: within 1.4e-7 in theta5 at a branch's end whose gap the grid never saw change sign
 FOLD_END_NEAR = 0.2
 GAP_NEAR_CELLS = 12
 #: ... and a grid point beside an arm branch's end (the elbow stretched) whose |gap| falls toward
@@ -189,12 +191,20 @@ GAP_NEAR_END = 0.2
 FOLD_NEAR = 0.02
 FOLD_SPAN = 0.05
 #: ... and on a model that deviates from the idealised one, where a shoulder branch's elbow falls
-#: short of the fold gap's centre by no more than this times the deviation (robot units) on a
-#: grid of FOLD_REACH_CELLS over the span, the exact model is followed from the stretched arm
+#: short of the fold gap's centre by no more than this times the deviation (robot units) at a
+#: point of the fold scan's grid, the exact model is followed from the stretched arm
 #: (see :func:`ik7r._kernels.scans._fold_beyond_reach`; the rounded 45 deg robot's missed sources
-#: had the nominal elbow 0.016 .. 0.07 mm short, its deviation 0.05; uniform poses 1.5 mm or more)
+#: had the nominal elbow 0.016 .. 0.07 mm short, its deviation 0.05; uniform poses 1.5 mm or more),
+#: read on the fold scan's first grid (SCAN_GRID cells)
 FOLD_REACH_SLACK = 10.0
-FOLD_REACH_CELLS = 32
+#: ... and on the idealised model, where it falls short by no more than this of the robot's
+#: size at a grid point (an island of reach narrower than a cell of the fold scan's grid, whose
+#: solutions the grid never sees: an exact 45 deg member with a lateral offset, short by 2.8e-4
+#: mm at a grid point, 1.1e-7 of its size). On either side the shortfall grew as about 575 mm
+#: per unit of sw squared, so an island half a cell from the nearest grid point would need 3e-6
+#: of the size; 1e-5 cost the 45 deg offsets member 60 % on its singular-set 99th percentile,
+#: 1e-6 nothing measurable
+FOLD_REACH_ISLAND = 1e-6
 #: ... and on a model that deviates from the idealised one, u down to this (of the range) below
 #: the fold too (the nominal roots there, theta5 clamped to pi, start exact solutions at the
 #: fold; 2e-2 found nothing more over 40,000 poses of four rounded 45 deg robots), on a grid of
@@ -332,6 +342,7 @@ _W, WORK_SIZE = _offsets(
     BLO=NBRACKETS, BHI=NBRACKETS, BSURE=NBRACKETS, FOUND=REFINE_GRID + 2,
     BCOEF=NBRACKETS * NCOEF, CAST=NCOEF, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP, NB=1,
     SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES, FAM=4 * NFAMILIES, NFAM=1, PAIR=2 * (SCAN_GRID + 1),
+    SHORT=2 * (SCAN_GRID + 1),
     RSCAN=SCAN_MEMO * SCAN_SLOT, NRSCAN=1, SDIP=2 * SHOULDER_DIPS, NSDIP=1,
 )
 W_MATS, W_P, W_A, W_TH, W_Q6, W_QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"], _W["QQ"]
@@ -339,7 +350,7 @@ W_BLO, W_BHI, W_BSURE, W_FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
 W_BCOEF, W_CAST, W_ISO, W_ROOTS = _W["BCOEF"], _W["CAST"], _W["ISO"], _W["ROOTS"]
 W_NB, W_SCAN, W_SUB = _W["NB"], _W["SCAN"], _W["SUB"]
 NTH = 10  # the arm's cosines and sines, theta5, and O4 (see :func:`fold_gap`)
-W_FAM, W_NFAM, W_PAIR = _W["FAM"], _W["NFAM"], _W["PAIR"]
+W_FAM, W_NFAM, W_PAIR, W_SHORT = _W["FAM"], _W["NFAM"], _W["PAIR"], _W["SHORT"]
 W_RSCAN, W_NRSCAN = _W["RSCAN"], _W["NRSCAN"]
 W_SDIP, W_NSDIP = _W["SDIP"], _W["NSDIP"]
 

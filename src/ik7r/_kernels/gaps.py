@@ -235,25 +235,19 @@ def fold_gap(sw, p, a, front, elbow, K, th, t1_in=0.0, in_plane=False, reach=0.0
 
 
 @njit
-def fold_short(sw, p, a, front, K):
-    """How far the elbow of the fold gap's shoulder branch ``front`` (+-1) falls short of its
-    centre at ``sw`` (robot units; negative where it reaches, infinite where not computed)."""
-    return _fold_arm(sw, p, a, front, K, 0.0, False, 0.0)[1]
-
-
-@njit
 def fold_gap_pair(sw, p, a, front, K, th):
     """:func:`fold_gap` at ``sw`` on both elbow branches of the shoulder branch ``front`` (+-1):
     (gap, ok) of elbow +1, then of elbow -1, from one evaluation of the part they share (the
-    centre, theta1, the elbow's half angle: about a third of a gap's transcendental calls). ``th``
-    holds the arm of elbow -1."""
-    ok, _, half, psi0, gamma, t20, t1, ox, oy, oz = _fold_arm(sw, p, a, front, K, 0.0, False, 0.0)
+    centre, theta1, the elbow's half angle: about a third of a gap's transcendental calls), then
+    how far the elbow falls short of the centre (robot units; negative where it reaches, infinite
+    where not computed). ``th`` holds the arm of elbow -1."""
+    ok, short, half, psi0, gamma, t20, t1, ox, oy, oz = _fold_arm(sw, p, a, front, K, 0.0, False, 0.0)
     if not ok:
-        return 0.0, False, 0.0, False
+        return 0.0, False, 0.0, False, short
     c1, s1 = math.cos(t1), math.sin(t1)
     gp, okp = _fold_branch(1.0, half, psi0, gamma, t20, c1, s1, ox, oy, oz, sw, K, th)
     gm, okm = _fold_branch(-1.0, half, psi0, gamma, t20, c1, s1, ox, oy, oz, sw, K, th)
-    return gp, okp, gm, okm
+    return gp, okp, gm, okm, short
 
 
 @njit

@@ -23,7 +23,7 @@ from .constants import (
     FOLD_BELOW_CELLS,
     FOLD_END_NEAR,
     FOLD_NEAR,
-    FOLD_REACH_CELLS,
+    FOLD_REACH_ISLAND,
     FOLD_REACH_SLACK,
     FOLD_SPAN,
     FOLD_WINDOW,
@@ -60,6 +60,7 @@ from .constants import (
     W_QQ,
     W_SCAN,
     W_SDIP,
+    W_SHORT,
     W_SUB,
     W_TH,
     wrap,
@@ -73,7 +74,6 @@ from .gaps import (
     fold_gap,
     fold_gap_pair,
     fold_near_axis,
-    fold_short,
     gap,
     gap_min,
     gap_root,
@@ -105,10 +105,13 @@ def scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, 
         if paired:
             # the fold gap's two elbow branches share most of their arm: their first grids at once
             th = ws[W_TH:W_TH + NTH]
+            row = W_SHORT + (0 if front > 0.0 else SCAN_GRID + 1)
             for i in range(cells + 1):
-                gp, okp, gm, okm = fold_gap_pair(ta + (tb - ta) * i / cells, p, a, 0.5 * front, K, th)
+                gp, okp, gm, okm, short = fold_gap_pair(ta + (tb - ta) * i / cells, p, a, 0.5 * front, K,
+                                                        th)
                 ws[W_PAIR + i] = gp if okp else np.nan
                 ws[W_PAIR + SCAN_GRID + 1 + i] = gm if okm else np.nan
+                ws[row + i] = short  # (read by _fold_beyond_reach)
         for elbow in (1.0, -1.0):
             sub[0] = ta
             sub[1] = tb
@@ -224,7 +227,7 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
                                ta + (tb - ta) * (i + 1) / m if math.isfinite(gi) else ti,
                                p, a, front, elbow, K, th)
             edge = ti if math.isfinite(gi) else ta + (tb - ta) * (i + 1) / m
-            if abs(front) == 2.0 and K[L.DEVIATION] > 0.0:
+            if abs(front) == 2.0:
                 g_end, ok_end = gap(t_in, p, a, front, elbow, K, th)
                 if ok_end and abs(g_end) < FOLD_END_NEAR:
                     count = _gap_candidate(t_in, p, a, front, elbow, R07, Td, K, hint, has_hint,
@@ -435,6 +438,10 @@ def _dip_scanned(t1, elbow, ws):
     return False
 
 
+#: The end of the fold scan's span in sw (a little past where the polynomial search begins)
+FOLD_SCAN_TOP = math.sqrt(FOLD_SPAN) * (1.0 + 1e-3)
+
+
 @njit
 def _fold_azimuth(th, p, a, R07, K, ws, mats):
     """The fold gap's arm ``th`` made into frame 3 (``mats[MAT_M]``, with the wrist's target
@@ -455,27 +462,30 @@ def _fold_azimuth(th, p, a, R07, K, ws, mats):
 
 @njit(allocates=True)
 def _fold_beyond_reach(p, a, R07, Td, K, out, count, ws, mats):
-    """A deviating model's solutions beside the fully bent wrist where the nominal arm falls
-    just short: on a twist near 45 deg the virtual centre goes to infinity at the fold, and the
-    wrist's deviation moves the exact solutions beyond the nominal arm's reach (the rounded 45
-    deg robot with the elbow stretched: the nominal elbow 0.016 to 0.07 mm short of the fold
-    gap's centre, the exact model reaching). Where a shoulder branch's elbow falls short by no
-    more than FOLD_REACH_SLACK times the deviation on FOLD_REACH_CELLS of the fold span, the
-    exact model's reduced residual in q5 (:func:`reduced_scan`) is followed from the stretched
-    arm at the least shortfall, each wrist, to the fold and to the end of the span."""
+    """Solutions beside the fully bent wrist where the nominal arm falls just short (a 45 deg
+    twist: the virtual centre goes to infinity at the fold). On a deviating model the wrist's
+    deviation moves the exact solutions beyond the nominal arm's reach (the rounded 45 deg robot
+    with the elbow stretched: the nominal elbow 0.016 to 0.07 mm short of the fold gap's
+    centre); on the idealised one the arm may reach over an island narrower than a cell of the
+    fold scan's grid (an exact member with a lateral offset, short by 1e-4 mm at a grid point).
+    Where a shoulder branch's elbow falls short by no more than FOLD_REACH_SLACK times the
+    deviation, or FOLD_REACH_ISLAND of the size, at a point of the fold scan's first grid (the
+    shortfalls :func:`scan_theta5` left in ``ws[W_SHORT]``), the model's reduced residual in q5
+    (:func:`reduced_scan`) is followed from the arm there with the elbow stretched toward the
+    centre, each wrist, to the fold and back to the span's end."""
     th = ws[W_TH:W_TH + NTH]
-    top = math.sqrt(FOLD_SPAN)
-    slack = FOLD_REACH_SLACK * K[L.DEVIATION]
+    top = FOLD_SCAN_TOP
+    slack = max(FOLD_REACH_SLACK * K[L.DEVIATION], FOLD_REACH_ISLAND * K[L.SCALE])
     start = np.empty(6)
     for front in (1.0, -1.0):
         least = math.inf
         at = 0.0
-        for i in range(FOLD_REACH_CELLS + 1):
-            sw = top * i / FOLD_REACH_CELLS
-            short = fold_short(sw, p, a, front, K)
+        row = W_SHORT + (0 if front > 0.0 else SCAN_GRID + 1)
+        for i in range(SCAN_GRID + 1):
+            short = ws[row + i]
             if 0.0 < short < least:
                 least = short
-                at = sw
+                at = top * i / SCAN_GRID
         if not least <= slack:
             continue
         _, ok = fold_gap(at, p, a, front, 1.0, K, th, 0.0, False, slack)
@@ -492,10 +502,10 @@ def _fold_beyond_reach(p, a, R07, Td, K, out, count, ws, mats):
                     continue
                 with_fold_wrist(q, Q, sgn * (math.pi - eps), -math.cos(eps), sgn * math.sin(eps), az,
                                 K, mats, start)
-                # (from a cell behind the start: the scan sees no dip in its first cell, and the
-                # stretched arm's own pair of roots, one per elbow, may lie right there)
+                # (from two cells behind the start: the scan sees no dip in its first cell, and
+                # the stretched arm's own pair of roots, one per elbow, may lie either side of it)
                 step = K[L.SIGN + 4] * sgn * v
-                count = reduced_scan(start, 4, start[4] - step / REDUCED_GRID, start[4] + step,
+                count = reduced_scan(start, 4, start[4] - 2.0 * step / REDUCED_GRID, start[4] + step,
                                      REDUCED_GRID, Td, K, out, count, ws, mats)
     return count
 
@@ -551,10 +561,9 @@ def scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
         # the virtual centre by d 1e-4, and it may come back from the other side (u < 0)
         count = scan_theta5(-math.sqrt(FOLD_BELOW * (1.0 - u_fold(K))), 0.0, p, a, R07, Td, K,
                              hint, has_hint, out, count, filt, ws, mats, 2.0, FOLD_BELOW_CELLS)
-    count = scan_theta5(0.0, math.sqrt(FOLD_SPAN) * (1.0 + 1e-3), p, a, R07, Td, K, hint,
-                         has_hint, out, count, filt, ws, mats, 2.0)
-    if K[L.DEVIATION] > 0.0:
-        count = _fold_beyond_reach(p, a, R07, Td, K, out, count, ws, mats)
+    count = scan_theta5(0.0, FOLD_SCAN_TOP, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws,
+                         mats, 2.0)
+    count = _fold_beyond_reach(p, a, R07, Td, K, out, count, ws, mats)  # (its shortfalls, W_SHORT)
     if fold_near_axis(p, a, K):
         # the approach (nearly) along axis 1: the fold gap in theta1 as well, and on a finer grid
         # next to the fold (two roots there can be within 1e-4 in sw, one cell of the grid above)
