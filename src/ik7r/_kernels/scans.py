@@ -105,7 +105,7 @@ def scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, 
         if paired:
             # the fold gap's two elbow branches share most of their arm: their first grids at once
             th = ws[W_TH:W_TH + NTH]
-            row = W_SHORT + (0 if front > 0.0 else SCAN_GRID + 1)
+            row = _short_row(front)
             for i in range(cells + 1):
                 gp, okp, gm, okm, short = fold_gap_pair(ta + (tb - ta) * i / cells, p, a, 0.5 * front, K,
                                                         th)
@@ -443,6 +443,13 @@ FOLD_SCAN_TOP = math.sqrt(FOLD_SPAN) * (1.0 + 1e-3)
 
 
 @njit
+def _short_row(front):
+    """Where in the work array the fold scan's first grid keeps the shortfalls of the shoulder
+    branch ``front`` (``fold_gap_pair``'s fifth value: how far the elbow falls short)."""
+    return W_SHORT + (0 if front > 0.0 else SCAN_GRID + 1)
+
+
+@njit
 def _fold_azimuth(th, p, a, R07, K, ws, mats):
     """The fold gap's arm ``th`` made into frame 3 (``mats[MAT_M]``, with the wrist's target
     ``mats[MAT_Q]`` and the arm's user joints in ``ws[W_Q6:W_Q6 + 3]``: :func:`arm_frame`), and
@@ -467,7 +474,7 @@ def _fold_beyond_reach(p, a, R07, Td, K, out, count, ws, mats):
     deviation moves the exact solutions beyond the nominal arm's reach (the rounded 45 deg robot
     with the elbow stretched: the nominal elbow 0.016 to 0.07 mm short of the fold gap's
     centre); on the idealised one the arm may reach over an island narrower than a cell of the
-    fold scan's grid (an exact member with a lateral offset, short by 1e-4 mm at a grid point).
+    fold scan's grid (an exact member with a lateral offset, short by 2.8e-4 mm at a grid point).
     Where a shoulder branch's elbow falls short by no more than FOLD_REACH_SLACK times the
     deviation, or FOLD_REACH_ISLAND of the size, at a point of the fold scan's first grid (the
     shortfalls :func:`scan_theta5` left in ``ws[W_SHORT]``), the model's reduced residual in q5
@@ -476,11 +483,10 @@ def _fold_beyond_reach(p, a, R07, Td, K, out, count, ws, mats):
     th = ws[W_TH:W_TH + NTH]
     top = FOLD_SCAN_TOP
     slack = max(FOLD_REACH_SLACK * K[L.DEVIATION], FOLD_REACH_ISLAND * K[L.SCALE])
-    start = np.empty(6)
     for front in (1.0, -1.0):
         least = math.inf
         at = 0.0
-        row = W_SHORT + (0 if front > 0.0 else SCAN_GRID + 1)
+        row = _short_row(front)
         for i in range(SCAN_GRID + 1):
             short = ws[row + i]
             if 0.0 < short < least:
@@ -494,6 +500,7 @@ def _fold_beyond_reach(p, a, R07, Td, K, out, count, ws, mats):
         az = _fold_azimuth(th, p, a, R07, K, ws, mats)
         Q = mats[MAT_Q, :3, :3].copy()
         q = ws[W_Q6:W_Q6 + 6].copy()
+        start = np.empty(6)
         eps = fold_eps(at, K)
         rest = fold_eps(top, K) - eps
         for sgn in (1.0, -1.0):
