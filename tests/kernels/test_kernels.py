@@ -539,6 +539,87 @@ def test_fold_gap_pair_is_the_fold_gap_of_each_elbow():
     assert seen == {True, False}
 
 
+def test_fold_meetings_are_where_the_shoulder_branches_are_born():
+    """``fold_meetings`` (closed form: a quadratic in u) against the fold gap's own reach, on a
+    45 deg member with a 150 mm lateral offset: on a dense grid of sw (4,000 points over the fold
+    span and below it) every point where a shoulder branch goes from not defined at all
+    (shortfall infinite) to defined lies within a grid step of a meeting, the two branches
+    are one arm there (their shortfalls part as the square root of the distance from the point,
+    on the side where they are defined), and every meeting in
+    the range has such a change beside it. Poses are drawn where the centre passes within the
+    offset of axis 1 (some have meetings in range, some none: both occur)."""
+    b = math.radians(45.0)
+    dh = np.array([[0, 0, 400, 0], [250, math.pi / 2, 150, 0], [1100, 0, 0, 0], [150, math.pi / 2, 1200, 0],
+                   [0, -b, 90, 0], [0, 2 * b, 90, 0], [0, -b, 110, 0]], float)
+    robot = Robot(name="b45_lateral", dh=dh)
+    K = robot.kernel_params
+    rng = np.random.default_rng(1290)
+    Q = rng.uniform(-np.pi, np.pi, (60, 6))
+    Q[:, 4] = rng.choice([-1.0, 1.0], 60) * (np.pi - rng.uniform(0.0, 0.5, 60))
+    T07 = np.empty((4, 4))
+    grid = np.linspace(-0.05, 0.25, 4001)
+    step = grid[1] - grid[0]
+    counts = []
+    for Td in robot.fk(Q):
+        _complete.frame07(Td, K, T07)
+        p, a = T07[:3, 3].copy(), T07[:3, 2] / np.linalg.norm(T07[:3, 2])
+        meet = [m for m in _gaps.fold_meetings(p, a, K) if grid[0] < m < grid[-1]]
+        counts.append(len(meet))
+        for front in (1.0, -1.0):
+            short = np.array([_gaps.fold_shortfall(x, p, a, front, K) for x in grid])
+            born = np.flatnonzero(np.isfinite(short[1:]) != np.isfinite(short[:-1]))
+            for i in born:
+                assert min((abs(m - grid[i]) for m in meet), default=np.inf) <= 2 * step, (grid[i], meet)
+            for m in meet:
+                assert any(abs(m - grid[i]) <= 2 * step for i in born), (m, grid[born])
+                side = 1.0 if math.isfinite(_gaps.fold_shortfall(m + 1e-9, p, a, front, K)) else -1.0
+                assert not math.isfinite(_gaps.fold_shortfall(m - side * 1e-9, p, a, front, K))
+                apart = [abs(_gaps.fold_shortfall(m + side * d, p, a, 1.0, K)
+                             - _gaps.fold_shortfall(m + side * d, p, a, -1.0, K)) for d in (1e-6, 1e-12)]
+                # (the branches part as the square root of the distance from where they meet:
+                # 1e-3 of the difference at 1e-6 is left at 1e-12, not more if the point is right)
+                assert apart[1] <= 2e-3 * apart[0], (m, apart)
+    assert 0 in counts and max(counts) >= 1
+
+
+def test_fold_short_min_finds_the_least_and_greatest_shortfall():
+    """``fold_short_min`` (Brent) as the fold scan uses it: over the two cells around each
+    grid point (SCAN_GRID cells over the fold span) whose shortfall is a grid minimum (or, with
+    ``sign`` -1, a maximum), on the 45 deg member with a lateral offset, against a dense grid
+    (2,001 points) over those cells: the least found is no higher than the dense grid's least
+    plus its resolution (the greatest no lower than its greatest less it), and it is the
+    shortfall at the point returned."""
+    b = math.radians(45.0)
+    dh = np.array([[0, 0, 400, 0], [250, math.pi / 2, 150, 0], [1100, 0, 0, 0], [150, math.pi / 2, 1200, 0],
+                   [0, -b, 90, 0], [0, 2 * b, 90, 0], [0, -b, 110, 0]], float)
+    robot = Robot(name="b45_lateral", dh=dh)
+    K = robot.kernel_params
+    T07 = np.empty((4, 4))
+    m = _constants.SCAN_GRID
+    top = _scans.FOLD_SCAN_TOP
+    checked = {1.0: 0, -1.0: 0}
+    for Td in robot.fk(np.random.default_rng(1291).uniform(-np.pi, np.pi, (150, 6))):
+        _complete.frame07(Td, K, T07)
+        p, a = T07[:3, 3].copy(), T07[:3, 2] / np.linalg.norm(T07[:3, 2])
+        for front in (1.0, -1.0):
+            grid = np.array([_gaps.fold_shortfall(top * i / m, p, a, front, K) for i in range(m + 1)])
+            for i in range(1, m):
+                for sign in (1.0, -1.0):
+                    three = sign * grid[i - 1:i + 2]
+                    if not (np.isfinite(three).all() and three[1] <= three[0] and three[1] <= three[2]):
+                        continue
+                    xs = np.linspace(top * (i - 1) / m, top * (i + 1) / m, 2001)
+                    dense = sign * np.array([_gaps.fold_shortfall(x, p, a, front, K) for x in xs])
+                    if not np.isfinite(dense).all():
+                        continue  # (a meeting inside: not a piece the scan minimises over)
+                    res = np.abs(np.diff(dense)).max()
+                    t, s = _gaps.fold_short_min(xs[0], xs[-1], p, a, front, K, sign)
+                    assert s == _gaps.fold_shortfall(t, p, a, front, K)
+                    assert sign * s <= dense.min() + res, (i, sign, s, dense.min())
+                    checked[sign] += 1
+    assert min(checked.values()) >= 5, checked
+
+
 def test_reduced_scans_that_join_a_curve_take_its_grid(monkeypatch):
     """The rounded 45 deg robot of benchmarks/edges.py at a straight wrist near the shoulder set:
     its candidates, up to 0.3 rad apart in q1, each began a whole-turn reduced scan of their

@@ -95,6 +95,10 @@ SINGULAR_ALONE = 1e-3
 #: zero (rad) a local minimum of its bend gap must come to be a candidate (exact, deviating).
 SCAN_GRID = 32
 SCAN_PIECES = 12  # the grid and the pieces (next to branch ends, around dips) it may add
+#: The fold scan's first grid (see :func:`ik7r._kernels.scans._fold_splits`) adds at most this
+#: many pieces of its own: the two sides of each cell where the shoulder branches meet, the
+#: sides of a hole in a branch (its elbow stretching and back between grid points)
+FOLD_SPLIT_PIECES = 8
 #: A dip that reaches (nearly) zero is scanned again on a grid of its own while its two cells
 #: are at least SCAN_NEST of the scanned range wide, SCAN_NEST_FOLD_AXIS in the fold gap in
 #: theta1 (:func:`_fold_axis_gap`): there a vertical approach next to the fold leaves two roots
@@ -203,8 +207,23 @@ FOLD_REACH_SLACK = 10.0
 #: mm at a grid point, 1.1e-7 of its size). On either side the shortfall grew as about 575 mm
 #: per unit of sw squared, so an island half a cell from the nearest grid point would need 3e-6
 #: of the size; 1e-5 cost the 45 deg offsets member 60 % on its singular-set 99th percentile,
-#: 1e-6 nothing measurable
+#: 1e-6 nothing measurable. Since the seventh session of 2026-12-04 the least between grid
+#: points counts too (FOLD_REACH_DIP): an island anywhere in a cell is followed
 FOLD_REACH_ISLAND = 1e-6
+#: ... and between grid points (:func:`ik7r._kernels.scans._fold_splits`): every least shortfall
+#: of the grid (both neighbours higher), and every greatest one where the branch reaches (both
+#: neighbours lower), within this of the size of zero is minimised (maximised) over its two
+#: cells by Brent. Below zero the least is an island of reach, above zero the greatest a hole
+#: in the branch: pieces of the scan; the least is also the start of _fold_beyond_reach. An
+#: island or hole anywhere in a cell is found so for any curvature of the shortfall up to 1e-2
+#: of the size per half cell squared (575 mm per unit sw squared was measured: 7e-3 mm at half
+#: a cell). The offsets 45 deg member's grid has such a dip in 9 % of its uniform and
+#: singular-set poses (276 of 3,000: 89 least, 187 greatest), Brent about 30 shortfalls each
+FOLD_REACH_DIP = 1e-2
+#: ... and where that greatest shortfall comes within this of the size of zero (below it), the
+#: elbow touches the stretch there: the point is a candidate (a tangency of the shortfall, found
+#: to about 1e-16 of the size by Brent: a source made with the elbow stretched is often one)
+FOLD_TOUCH = 1e-9
 #: ... and on a model that deviates from the idealised one, u down to this (of the range) below
 #: the fold too (the nominal roots there, theta5 clamped to pi, start exact solutions at the
 #: fold; 2e-2 found nothing more over 40,000 poses of four rounded 45 deg robots), on a grid of
@@ -341,8 +360,8 @@ _W, WORK_SIZE = _offsets(
     MATS=NMATS * 16, P=3, A=3, TH=10, Q6=6, QQ=6,
     BLO=NBRACKETS, BHI=NBRACKETS, BSURE=NBRACKETS, FOUND=REFINE_GRID + 2,
     BCOEF=NBRACKETS * NCOEF, CAST=NCOEF, ISO=ISOLATE_WORK, ROOTS=ROOT_CAP, NB=1,
-    SCAN=SCAN_GRID + 1, SUB=2 * SCAN_PIECES, FAM=4 * NFAMILIES, NFAM=1, PAIR=2 * (SCAN_GRID + 1),
-    SHORT=2 * (SCAN_GRID + 1),
+    SCAN=SCAN_GRID + 1, SUB=2 * (SCAN_PIECES + FOLD_SPLIT_PIECES), FAM=4 * NFAMILIES, NFAM=1,
+    PAIR=2 * (SCAN_GRID + 1), SHORT=2 * (SCAN_GRID + 1), SPLIT=2 * FOLD_SPLIT_PIECES, LEAST=4,
     RSCAN=SCAN_MEMO * SCAN_SLOT, NRSCAN=1, SDIP=2 * SHOULDER_DIPS, NSDIP=1,
 )
 W_MATS, W_P, W_A, W_TH, W_Q6, W_QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"], _W["QQ"]
@@ -351,6 +370,7 @@ W_BCOEF, W_CAST, W_ISO, W_ROOTS = _W["BCOEF"], _W["CAST"], _W["ISO"], _W["ROOTS"
 W_NB, W_SCAN, W_SUB = _W["NB"], _W["SCAN"], _W["SUB"]
 NTH = 10  # the arm's cosines and sines, theta5, and O4 (see :func:`fold_gap`)
 W_FAM, W_NFAM, W_PAIR, W_SHORT = _W["FAM"], _W["NFAM"], _W["PAIR"], _W["SHORT"]
+W_SPLIT, W_LEAST = _W["SPLIT"], _W["LEAST"]
 W_RSCAN, W_NRSCAN = _W["RSCAN"], _W["NRSCAN"]
 W_SDIP, W_NSDIP = _W["SDIP"], _W["NSDIP"]
 

@@ -251,6 +251,58 @@ def fold_gap_pair(sw, p, a, front, K, th):
 
 
 @njit
+def fold_shortfall(sw, p, a, front, K):
+    """How far the elbow of the fold gap's shoulder branch ``front`` (+-1) falls short of the
+    centre at ``sw`` (robot units; negative where it reaches; infinite where the branch is not
+    defined at all, the centre within the lateral offset of axis 1): ``fold_gap_pair``'s fifth
+    value, without the elbow branches."""
+    return _fold_arm(sw, p, a, front, K, 0.0, False, 0.0)[1]
+
+
+@njit
+def fold_short_min(t0, t1, p, a, front, K, sign=1.0):
+    """The least ``sign`` times the shortfall (:func:`fold_shortfall`) of the shoulder branch
+    ``front`` in [t0, t1] (Brent's minimiser; ``sign`` -1: the greatest shortfall; a point
+    where the branch is not defined counts as infinitely high): (sw, shortfall there)."""
+    st, t = brent_start(t0, t1)
+    for _ in range(200):
+        short = fold_shortfall(t, p, a, front, K)
+        st = brent_take(st, t, sign * short if math.isfinite(short) else math.inf)
+        st, t, done = brent_next(st)
+        if done:
+            break
+    return st[2], sign * st[5]
+
+
+@njit
+def fold_meetings(p, a, K):
+    """Where the fold gap's two shoulder branches meet: ``sw`` (:func:`fold_gap`) of the (at
+    most two) u at which the scaled virtual centre ``u O - KW a`` lies at the lateral offset's
+    distance from axis 1 (``|u O_xy - KW a_xy|^2 = (u b)^2``, a quadratic in u; the branches
+    are not defined on one side, and are one arm at the point). NaN for none; both NaN without
+    a lateral offset (the centre on axis 1 is :func:`fold_near_axis`'s)."""
+    b = K[L.B]
+    if b == 0.0:
+        return np.nan, np.nan
+    d7 = K[L.D7]
+    kw = K[L.KW]
+    ox = p[0] - d7 * a[0]
+    oy = p[1] - d7 * a[1]
+    qa = ox * ox + oy * oy - b * b
+    qb = -2.0 * kw * (ox * a[0] + oy * a[1])
+    qc = kw * kw * (a[0] * a[0] + a[1] * a[1])
+    disc = qb * qb - 4.0 * qa * qc
+    if disc < 0.0 or (qa == 0.0 and qb == 0.0):
+        return np.nan, np.nan
+    q = -0.5 * (qb + math.copysign(math.sqrt(disc), qb))  # (the two roots without cancellation)
+    u1 = q / qa if qa != 0.0 else np.nan
+    u2 = qc / q if q != 0.0 else np.nan
+    uf = u_fold(K)
+    return (math.copysign(math.sqrt(abs(u1 - uf)), u1 - uf),
+            math.copysign(math.sqrt(abs(u2 - uf)), u2 - uf))
+
+
+@njit
 def _fold_arm(sw, p, a, front, K, t1_in, in_plane, reach):
     """The part of :func:`fold_gap` its two elbow branches share: (ok, short, half, psi0, gamma,
     t20, t1, ox, oy, oz): how far the elbow falls short of the centre (robot units; negative

@@ -23,9 +23,12 @@ from .constants import (
     FOLD_BELOW_CELLS,
     FOLD_END_NEAR,
     FOLD_NEAR,
+    FOLD_REACH_DIP,
     FOLD_REACH_ISLAND,
     FOLD_REACH_SLACK,
     FOLD_SPAN,
+    FOLD_SPLIT_PIECES,
+    FOLD_TOUCH,
     FOLD_WINDOW,
     GAP_NEAR_CELLS,
     GAP_NEAR_DEPTH,
@@ -54,6 +57,7 @@ from .constants import (
     SHOULDER_TURN_BEND,
     SHOULDER_TURN_SLACK,
     TWO_PI,
+    W_LEAST,
     W_NSDIP,
     W_PAIR,
     W_Q6,
@@ -61,6 +65,7 @@ from .constants import (
     W_SCAN,
     W_SDIP,
     W_SHORT,
+    W_SPLIT,
     W_SUB,
     W_TH,
     wrap,
@@ -73,7 +78,9 @@ from .gaps import (
     fold_eps,
     fold_gap,
     fold_gap_pair,
+    fold_meetings,
     fold_near_axis,
+    fold_short_min,
     gap,
     gap_min,
     gap_root,
@@ -99,9 +106,9 @@ def scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, 
     Each candidate is completed with the wrist and verified on the forward kinematics.
     ``front1`` 2: the same scan of the fold gap (:func:`scan_fold`). ``cells``: the first grid's
     (the pieces it adds have SCAN_GRID)."""
-    sub = ws[W_SUB:W_SUB + 2 * SCAN_PIECES]
     paired = abs(front1) == 2.0 and not tiny_piece(ta, tb)
     for front in (front1, -front1):
+        nsplit = 0
         if paired:
             # the fold gap's two elbow branches share most of their arm: their first grids at once
             th = ws[W_TH:W_TH + NTH]
@@ -111,21 +118,123 @@ def scan_theta5(ta, tb, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, 
                                                         th)
                 ws[W_PAIR + i] = gp if okp else np.nan
                 ws[W_PAIR + SCAN_GRID + 1 + i] = gm if okm else np.nan
-                ws[row + i] = short  # (read by _fold_beyond_reach)
+                ws[row + i] = short
+            count, nsplit = _fold_splits(ta, tb, cells, front, p, a, R07, Td, K, hint, has_hint,
+                                         out, count, filt, ws, mats)
         for elbow in (1.0, -1.0):
-            sub[0] = ta
-            sub[1] = tb
-            npieces = 1
-            j = 0
-            while j < npieces:
-                t0 = sub[2 * j]
-                t1 = sub[2 * j + 1]
-                given = (0 if elbow > 0.0 else 1) if paired and j == 0 else -1
-                count, npieces = _scan_piece(t0, t1, sub, npieces, front, elbow, p, a, R07,
-                                             Td, K, hint, has_hint, out, count, filt, ws, mats,
-                                             cells if j == 0 else SCAN_GRID, given)
-                j += 1
+            count = _scan_pieces(ta, tb, front, elbow, p, a, R07, Td, K, hint, has_hint, out, count,
+                                 filt, ws, mats, cells, (0 if elbow > 0.0 else 1) if paired else -1,
+                                 nsplit)
     return count
+
+
+@njit
+def _scan_pieces(ta, tb, front, elbow, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats,
+                 cells, given, nsplit=0):
+    """:func:`_scan_piece` over [ta, tb] on the branch (front, elbow) (``cells``; its values from
+    row ``given`` of W_PAIR if >= 0), then over the ``nsplit`` pieces of ``ws[W_SPLIT]``
+    (:func:`_fold_splits`) and every piece these append."""
+    sub = ws[W_SUB:W_SUB + 2 * (SCAN_PIECES + nsplit)]
+    sub[0] = ta
+    sub[1] = tb
+    for k in range(2 * nsplit):
+        sub[2 + k] = ws[W_SPLIT + k]
+    npieces = 1 + nsplit
+    j = 0
+    while j < npieces:
+        count, npieces = _scan_piece(sub[2 * j], sub[2 * j + 1], sub, npieces, front, elbow, p, a,
+                                     R07, Td, K, hint, has_hint, out, count, filt, ws, mats,
+                                     cells if j == 0 else SCAN_GRID, given if j == 0 else -1)
+        j += 1
+    return count
+
+
+@njit
+def _fold_splits(ta, tb, cells, front, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """Pieces the fold scan's first grid (``cells`` over [ta, tb]) adds on the shoulder branch
+    ``front`` (+-2) where a branch's reach changes between two grid points unseen (into
+    ``ws[W_SPLIT]``), and the candidates it finds there. From the grid's shortfalls
+    (``ws[W_SHORT]``):
+
+    * where the two shoulder branches meet (:func:`fold_meetings`, in closed form) inside a
+      cell, the cell's two sides: the branches are not defined on one side of the point, and
+      born there as one arm, so a branch may reach from there to an elbow stretched before the
+      next grid point (an exact 45 deg member with a 169 mm lateral offset: for 8e-6 in sw, the
+      source there), or hold a piece between the point and a grid point where it reaches;
+    * where the least-reaching grid point's shortfall is within FOLD_REACH_DIP of the size of
+      zero, the greatest shortfall over its two cells (Brent): above zero, the branch has a
+      hole there (the elbow stretched at both its sides, unseen by the grid), and the pieces
+      from the grid points to the hole's sides are added, the sides candidates (as branch
+      ends, FOLD_END_NEAR); within FOLD_TOUCH of the size below zero, the elbow touches the
+      stretch there (a source made with the elbow stretched is often such a point: six of
+      the seven exact members' misses that led here), and the point is a candidate;
+    * where a least shortfall is above zero but within FOLD_REACH_DIP of the size, the least
+      over its two cells (Brent), kept with the least of the grid for :func:`_fold_beyond_reach`
+      (``ws[W_LEAST]``: the least and its sw, per shoulder branch); below zero, the island of
+      reach is a piece too.
+
+    Returns (count, the number of pieces)."""
+    row = _short_row(front)
+    split = ws[W_SPLIT:W_SPLIT + 2 * FOLD_SPLIT_PIECES]
+    th = ws[W_TH:W_TH + NTH]
+    h = (tb - ta) / cells
+    near = FOLD_REACH_DIP * K[L.SCALE]
+    n = 0
+    m1, m2 = fold_meetings(p, a, K)
+    for m in (m1, m2):
+        i = int(math.floor((m - ta) / h)) if ta < m < tb else -1
+        if 0 <= i < cells and ta + h * i < m < ta + h * (i + 1) and n + 2 <= FOLD_SPLIT_PIECES:
+            split[2 * n], split[2 * n + 1] = ta + h * i, m
+            split[2 * n + 2], split[2 * n + 3] = m, ta + h * (i + 1)
+            n += 2
+    least = math.inf
+    at = 0.0
+    for i in range(cells + 1):
+        s = ws[row + i]
+        lo = ws[row + i - 1] if i > 0 else s
+        hi = ws[row + i + 1] if i < cells else s
+        t_lo = ta + h * max(i - 1, 0)
+        t_hi = ta + h * min(i + 1, cells)
+        t = ta + h * i
+        if -near < s <= 0.0 and lo <= s and hi <= s and n + 2 <= FOLD_SPLIT_PIECES:
+            tm, sm = fold_short_min(t_lo, t_hi, p, a, 0.5 * front, K, -1.0)
+            e0 = e1 = tm
+            if sm > 0.0:  # (a hole: each side's piece from the grid to the stretched elbow)
+                e0 = branch_end(t_lo, tm, p, a, front, 1.0, K, th)
+                e1 = branch_end(t_hi, tm, p, a, front, 1.0, K, th)
+                split[2 * n], split[2 * n + 1] = t_lo, e0
+                split[2 * n + 2], split[2 * n + 3] = e1, t_hi
+                n += 2
+            if sm > -FOLD_TOUCH * K[L.SCALE]:
+                for e in (e0, e1):
+                    for elbow in (1.0, -1.0):
+                        g, ok = gap(e, p, a, front, elbow, K, th)
+                        if ok and abs(g) < FOLD_END_NEAR:
+                            count = _gap_candidate(e, p, a, front, elbow, R07, Td, K, hint, has_hint,
+                                                   out, count, filt, ws, mats)
+                    if e1 == e0:
+                        break
+        elif 0.0 < s < math.inf:
+            if s < near and s <= lo and s <= hi and lo > 0.0 and hi > 0.0:
+                t, s = fold_short_min(t_lo, t_hi, p, a, 0.5 * front, K)
+                if s <= 0.0 and n < FOLD_SPLIT_PIECES:  # (an island: its piece)
+                    split[2 * n] = branch_end(t, t_lo, p, a, front, 1.0, K, th)
+                    split[2 * n + 1] = branch_end(t, t_hi, p, a, front, 1.0, K, th)
+                    n += 1
+            if s < least:
+                least = s
+                at = t
+    k = _least_slot(front)
+    ws[k] = least
+    ws[k + 1] = at
+    return count, n
+
+
+@njit
+def _least_slot(front):
+    """Where in the work array :func:`_fold_splits` keeps the least shortfall of the shoulder
+    branch ``front`` and its sw (read by :func:`_fold_beyond_reach`)."""
+    return W_LEAST + (0 if front > 0.0 else 2)
 
 
 @njit
@@ -221,7 +330,7 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
     for i in range(m + 1):
         gi = gs[i]
         ti = ta + (tb - ta) * i / m
-        if i < m and math.isfinite(gi) != math.isfinite(gs[i + 1]) and npieces < SCAN_PIECES:
+        if i < m and math.isfinite(gi) != math.isfinite(gs[i + 1]) and 2 * npieces < len(sub):
             # the branch ends in this cell: bisect for the end, then scan the defined part
             t_in = branch_end(ti if math.isfinite(gi) else ta + (tb - ta) * (i + 1) / m,
                                ta + (tb - ta) * (i + 1) / m if math.isfinite(gi) else ti,
@@ -274,7 +383,7 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
                     and tb == sub[1]):
                 count = _shoulder_exact(tm, elbow, p, a, R07, Td, K, hint, out, count, ws, mats)
             nest = SCAN_NEST_FOLD_AXIS if front == 3.0 else SCAN_NEST
-            if fm < near and npieces < SCAN_PIECES and t_hi - t_lo >= nest * (sub[1] - sub[0]):
+            if fm < near and 2 * npieces < len(sub) and t_hi - t_lo >= nest * (sub[1] - sub[0]):
                 # a dip that reaches (nearly) zero may hide more than one root: scan it again
                 # on a grid of its own
                 sub[2 * npieces] = t_lo
@@ -476,22 +585,18 @@ def _fold_beyond_reach(p, a, R07, Td, K, out, count, ws, mats):
     centre); on the idealised one the arm may reach over an island narrower than a cell of the
     fold scan's grid (an exact member with a lateral offset, short by 2.8e-4 mm at a grid point).
     Where a shoulder branch's elbow falls short by no more than FOLD_REACH_SLACK times the
-    deviation, or FOLD_REACH_ISLAND of the size, at a point of the fold scan's first grid (the
-    shortfalls :func:`scan_theta5` left in ``ws[W_SHORT]``), the model's reduced residual in q5
+    deviation, or FOLD_REACH_ISLAND of the size, at a point of the fold scan's first grid or at
+    the least between two of them (:func:`_fold_splits` left it in ``ws[W_LEAST]``), or reaches
+    there over an island the grid does not see, the model's reduced residual in q5
     (:func:`reduced_scan`) is followed from the arm there with the elbow stretched toward the
     centre, each wrist, to the fold and back to the span's end."""
     th = ws[W_TH:W_TH + NTH]
     top = FOLD_SCAN_TOP
     slack = max(FOLD_REACH_SLACK * K[L.DEVIATION], FOLD_REACH_ISLAND * K[L.SCALE])
     for front in (1.0, -1.0):
-        least = math.inf
-        at = 0.0
-        row = _short_row(front)
-        for i in range(SCAN_GRID + 1):
-            short = ws[row + i]
-            if 0.0 < short < least:
-                least = short
-                at = top * i / SCAN_GRID
+        k = _least_slot(front)
+        least = ws[k]
+        at = ws[k + 1]
         if not least <= slack:
             continue
         _, ok = fold_gap(at, p, a, front, 1.0, K, th, 0.0, False, slack)
