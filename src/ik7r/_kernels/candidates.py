@@ -19,6 +19,7 @@ from .constants import (
     NEAR_SINGULAR,
     STRAIGHT_DEVIATING,
     STRAIGHT_SHOULDER,
+    STRETCH_SPLIT_NEAR,
     W_Q6,
     W_QQ,
     W_TH,
@@ -57,8 +58,12 @@ def wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, fil
         shoulder = near_shoulder(th, K)
         window = STRAIGHT_SHOULDER if shoulder or near_stretch(th, K) else STRAIGHT_DEVIATING
         # (the bend of the arm's own target: a root clamped to the end of the range is not enough)
-        if t5 < window and theta5_of_bend(Q, K) < window:
-            count = straight_family(q, Q, Td, K, out, count, ws, mats, shoulder)
+        bent = theta5_of_bend(Q, K)
+        if t5 < window and bent < window:
+            # (the elbow at its stretch and the wrist straight as well: the split from starts)
+            splits = (max(t5, bent) < STRAIGHT_DEVIATING
+                      and near_stretch(th, K, STRETCH_SPLIT_NEAR))
+            count = straight_family(q, Q, Td, K, out, count, ws, mats, shoulder, splits)
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
     if t5 < FOLD_WINDOW:
         # straight wrist: one member of the theta4 + theta7 family

@@ -15,11 +15,13 @@ import math
 import numpy as np
 
 from . import params as L
-from .answers import accept, add_answer, apart, bend, theta5
+from .answers import _walked, accept, add_answer, apart, bend, theta5
 from .constants import (
     CLOSED_TOL,
+    CONTINUUM_WINDOW,
     DIP_NEAR,
     DIP_SHARP,
+    DUP_TOL,
     FOLD_WINDOW,
     MAT_M,
     MAT_Q,
@@ -41,7 +43,10 @@ from .constants import (
     SCAN_MEMO,
     SCAN_MEMO_TOL,
     SCAN_SLOT,
+    STALL_PATIENCE,
     STRAIGHT_DEVIATING,
+    STRETCH_ITERS,
+    STRETCH_SPLITS,
     TWO_PI,
     W_A,
     W_FAM,
@@ -53,7 +58,7 @@ from .constants import (
     W_TH,
     wrap,
 )
-from .fk import dh_angle, fk_jacobian, fk_user, pose_error, residual, user_angle
+from .fk import dh_angle, fk_jacobian, fk_user, polish, pose_error, residual, user_angle
 from .jit import njit
 from .joints import other_wrist
 from .poly import brent_next, brent_start, brent_take, illinois_step, secant_point
@@ -61,7 +66,7 @@ from .singular import turn_scanned
 
 
 @njit(allocates=True)
-def straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False):
+def straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False, stretched=False):
     """Every exact solution near the straight-wrist family of the arm ``q[:3]`` (user angles) on a
     model that deviates from the idealised one. On the idealised model a straight wrist leaves
     only ``s4 q4 + s7 q7`` defined (a circle of solutions, the split free); the deviation breaks
@@ -82,10 +87,23 @@ def straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False):
     axis 1 gave 12 solutions, four on each sheet; one was missed). There a sheet need not
     close over the turn either (it can drift onto the other before it comes back), so the last
     half turn of each is tracked back from its start too (generated(2) of the tests, a pair
-    0.09 rad apart in q4 on either side of the start)."""
+    0.09 rad apart in q4 on either side of the start).
+
+    With the elbow at its stretch (or folded) as well (``stretched``: see STRETCH_SPLIT_NEAR)
+    the five other joints are not regular there (the arm is singular), and the reduced
+    residual may miss a solution at the straight wrist itself: the split is also tried on a
+    grid of STRETCH_SPLITS over the whole turn, each start the arm with the wrist straight,
+    polished by damped steps (:func:`_stretched_splits`), for every such arm (the memo of
+    arms scanned does not hold for it)."""
     s4 = K[L.SIGN + 3]
     s7 = K[L.SIGN + 6]
     total = math.atan2(Q[1, 0], Q[0, 0]) - K[L.THETA_OFFSET4] - K[L.THETA_OFFSET7]
+    if stretched:  # (before the family's memo: an arm scanned before need not have been as near)
+        x = np.empty(6)
+        for i in range(3):
+            x[i] = q[i]
+        x[4] = user_angle(4, 0.0, K)
+        count = _stretched_splits(x, total, Td, K, out, count, mats)
     nf = int(ws[W_NFAM])
     for k in range(min(nf, NFAMILIES)):
         f = ws[W_FAM + 4 * k:W_FAM + 4 * k + 4]
@@ -125,6 +143,43 @@ def straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False):
                           ws, mats)
     return reduced_scan(back, 3, back[3], back[3] - math.pi, REDUCED_GRID // 2, Td, K, out, count,
                          ws, mats)
+
+
+@njit(allocates=True)
+def _stretched_splits(x, total, Td, K, out, count, mats):
+    """The straight-wrist solutions of the arm ``x[:3]`` with its elbow (nearly) stretched or
+    folded, on a deviating model: from the wrist straight (``x[4]``) with ``s4 q4 + s7 q7 =
+    total`` and q4 on a grid of STRETCH_SPLITS over the whole turn, damped polishes
+    (:func:`ik7r._kernels.fk.polish`, giving up on a stall) on the exact forward kinematics;
+    each that meets the pose is added, once per valley: there the FK is flat in the split too,
+    and starts a grid step apart stop at different points of one band of exact poses (a rounded
+    member: 16 points over 0.02 rad of q4), so a point that a walk joins to one kept before
+    (:func:`ik7r._kernels.answers._walked`, within CONTINUUM_WINDOW) is that one. (On the IRB
+    5400 with the elbow stretched and the wrist straight, the reduced residual's scan of the
+    split missed the source; 36 of 48 such starts polished onto it, to 1e-12 rad.)"""
+    s4 = K[L.SIGN + 3]
+    s7 = K[L.SIGN + 6]
+    arm0, arm1, arm2, wrist = x[0], x[1], x[2], x[4]
+    kept = np.empty((STRETCH_SPLITS, 6))
+    nk = 0
+    for k in range(STRETCH_SPLITS):
+        x[0], x[1], x[2], x[4] = arm0, arm1, arm2, wrist
+        x[3] = -math.pi + TWO_PI * k / STRETCH_SPLITS
+        x[5] = s7 * (total - s4 * x[3])
+        if not polish(x, Td, K, STRETCH_ITERS, True, STALL_PATIENCE):
+            continue
+        one = False
+        for i in range(nk):
+            far = apart(kept[i], x)
+            if far <= DUP_TOL or (far < CONTINUUM_WINDOW and _walked(kept[i], x, Td, K, mats)):
+                one = True
+                break
+        if not one:
+            for i in range(6):
+                kept[nk, i] = x[i]
+            nk += 1
+            count = add_answer(x.copy(), out, count, Td, K, mats)
+    return count
 
 
 @njit

@@ -82,12 +82,12 @@ def near_shoulder(th, K):
 
 
 @njit
-def near_stretch(th, K):
+def near_stretch(th, K, within=STRETCH_DEVIATING):
     """Whether the arm of DH cosines and sines ``th`` (see :func:`arm_from_psi`) has its elbow
-    within STRETCH_DEVIATING of stretched or folded for the straight wrist's virtual centre: the
+    ``within`` (default STRETCH_DEVIATING) of stretched or folded for the straight wrist's virtual centre: the
     sine of ``theta3 - atan2(eps3 L, a3)``, ``L = d4 + KW`` (the elbow's angle from the line of
     the upper arm, :func:`ik7r._kernels.arm.arm_cs`)."""
     Ld = K[L.D4] + K[L.KW]
     a3 = K[L.A3]
-    return abs(th[5] * a3 - th[2] * K[L.EPS3] * Ld) < STRETCH_DEVIATING * math.hypot(a3, Ld)
+    return abs(th[5] * a3 - th[2] * K[L.EPS3] * Ld) < within * math.hypot(a3, Ld)
 
