@@ -446,7 +446,7 @@ def test_the_continuums_walk_does_not_step_over_a_ridge(paper):
     two solutions: along the path
     of least residual between them (q2 stepped, the other joints by reference_ik's
     Levenberg-Marquardt) the pose is missed by more than twice the tolerance (5.5 times). The
-    walk that decides what is a shadow of the continuum (``_walked`` in answers.py) must not
+    walk that decides what is a shadow of the continuum (``walked`` in answers.py) must not
     join them. It did: its points stayed on the continuum and its last step moved the tilt by
     all of its 2.8e-4 rad at once (a step could move any joint by twice the largest joint's
     share); now a step may move each joint by twice its own share (plus DUP_TOL)."""
@@ -476,7 +476,7 @@ def test_the_continuums_walk_does_not_step_over_a_ridge(paper):
         worst = max(worst, exact(paper, prev[None], T)[0][0] / ch.tol)
     assert worst > 2.0
     mats = np.zeros((constants.NMATS, 4, 4))
-    assert not answers._walked(c, x, T, paper.kernel_params, mats)
+    assert not answers.walked(c, x, T, paper.kernel_params, mats)
 
 
 @pytest.mark.xfail(strict=True, raises=AssertionError, reason=(

@@ -3,7 +3,7 @@
 ``accept`` verifies a candidate on the exact forward kinematics (polishing it: Newton on an
 idealised family member, a homotopy from the idealised model on one that deviates) and
 ``add_answer`` appends it unless it is an answer already: within DUP_TOL, joined by an exact
-segment (``_joined``) or walk (``_walked``), the same exactly straight wrist (``_same_straight``,
+segment (``_joined``) or walk (``walked``), the same exactly straight wrist (``_same_straight``,
 the split of ``straight_split``), or a shadow of the continuum of axis 4 on axis 1 (turned to
 the seed's joint 1). ``floor_shoulder`` and ``merge_folded`` are the passes over the whole
 output at the end of a pose. See docs/guide/edges.md for the rules and their measurements.
@@ -148,7 +148,7 @@ def _insert(q, out, count, Td, K, mats, shoulder):
             if _joined(out[k], q, mid, Td, K, mats):
                 return count
         if (shoulder and far < CONTINUUM_WINDOW and mats[MAT_CW].reshape(16)[CW_FOUND] != 0.0
-                and on_shoulder_set(out[k], K) and _walked(out[k], q, Td, K, mats)):
+                and on_shoulder_set(out[k], K) and walked(out[k], q, Td, K, mats)):
             return count  # (beside a continuum: see CONTINUUM_WINDOW)
     if count == out.shape[0]:
         raise RuntimeError("ik7r: more distinct solutions than the output holds (MAX_SOLUTIONS); "
@@ -259,15 +259,15 @@ def _drop_continuum_shadows(out, count, m, sgn, Td, K, mats):
 def _beside(m, sgn, x, Td, K, mats):
     """Whether the exact ``x`` is a shadow of the continuum of axis 4 on axis 1 through ``m``
     (joint 4 turning by ``sgn``): within CONTINUUM_WINDOW of the continuum's point at its own q1
-    and joined to it by an exact walk (:func:`_walked`)."""
+    and joined to it by an exact walk (:func:`walked`)."""
     c = mats[MAT_CW].reshape(16)[6:12]
     _turned(m, x[0], sgn, c)
     return (apart(c, x) < CONTINUUM_WINDOW and _turn_onto(m, x[0], sgn, c, Td, K, mats)
-            and (apart(c, x) <= DUP_TOL or _walked(c, x, Td, K, mats)))
+            and (apart(c, x) <= DUP_TOL or walked(c, x, Td, K, mats)))
 
 
 @njit
-def _walked(a, b, Td, K, mats):
+def walked(a, b, Td, K, mats):
     """Whether a walk from the exact ``a`` to the exact ``b`` stays exact: its points WALK_STEP
     apart on the segment (WALK_MIN of them at least: a shorter walk would check nothing), each
     that misses the pose polished onto it by damped steps with the joint of the largest

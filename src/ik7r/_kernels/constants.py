@@ -67,7 +67,7 @@ FLOOR_ITERS = 4
 #: joints 1 and 4 together without moving the tool: an exact solution there is a continuum, kept
 #: once, at the seed's q1 (else 0; see :func:`add_answer`). An exact point within CONTINUUM_WINDOW (rad,
 #: every joint) of the continuum's point at its own q1 is that solution when a walk from that
-#: point to it stays exact (:func:`_walked`, its points WALK_STEP apart): next to the continuum
+#: point to it stays exact (:func:`walked`, its points WALK_STEP apart): next to the continuum
 #: the FK is flat, and the scans' exact points there (and the continuum's own isolated neighbours,
 #: whose Jacobian's smallest singular value is about 1e-14 of its largest) are its shadows. In a
 #: pose with such a continuum the same walk joins two exact points of the shoulder set this close
@@ -321,7 +321,7 @@ MAT_T07, MAT_R07, MAT_M, MAT_Q, MAT_T, MAT_WR, MAT_PSI, MAT_CW, MAT_WALK = range
 #: The entry MAT_CW of the stack: the joint 1 of the turn of axis 4 on axis 1 (see :func:`add_answer`),
 #: at this index of its 16 values (the seed's q1, else 0), and at CW_FOUND 1 once the pose has
 #: such a continuum; the rest is the turn's scratch. The entry MAT_WALK: a walk's point and the one
-#: before it (:func:`_walked`).
+#: before it (:func:`walked`).
 CW_REF = 12
 CW_FOUND = 13
 CW_SHOULDER = 14  # (1 once a solution on the shoulder set was added: see :func:`floor_shoulder`)

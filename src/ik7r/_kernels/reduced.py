@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from . import params as L
-from .answers import _walked, accept, add_answer, apart, bend, theta5
+from .answers import accept, add_answer, apart, bend, theta5, walked
 from .constants import (
     CLOSED_TOL,
     CONTINUUM_WINDOW,
@@ -154,7 +154,7 @@ def _stretched_splits(x, total, Td, K, out, count, mats):
     each that meets the pose is added, once per valley: there the FK is flat in the split too,
     and starts a grid step apart stop at different points of one band of exact poses (a rounded
     member: 16 points over 0.02 rad of q4), so a point that a walk joins to one kept before
-    (:func:`ik7r._kernels.answers._walked`, within CONTINUUM_WINDOW) is that one. (On the IRB
+    (:func:`ik7r._kernels.answers.walked`, within CONTINUUM_WINDOW) is that one. (On the IRB
     5400 with the elbow stretched and the wrist straight, the reduced residual's scan of the
     split missed the source; 36 of 48 such starts polished onto it, to 1e-12 rad.)"""
     s4 = K[L.SIGN + 3]
@@ -171,7 +171,7 @@ def _stretched_splits(x, total, Td, K, out, count, mats):
         one = False
         for i in range(nk):
             far = apart(kept[i], x)
-            if far <= DUP_TOL or (far < CONTINUUM_WINDOW and _walked(kept[i], x, Td, K, mats)):
+            if far <= DUP_TOL or (far < CONTINUUM_WINDOW and walked(kept[i], x, Td, K, mats)):
                 one = True
                 break
         if not one:

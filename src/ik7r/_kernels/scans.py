@@ -675,7 +675,7 @@ def scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
                              hint, has_hint, out, count, filt, ws, mats, 2.0, FOLD_BELOW_CELLS)
     count = scan_theta5(0.0, FOLD_SCAN_TOP, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws,
                          mats, 2.0)
-    count = _fold_beyond_reach(p, a, R07, Td, K, out, count, ws, mats)  # (its shortfalls, W_SHORT)
+    count = _fold_beyond_reach(p, a, R07, Td, K, out, count, ws, mats)  # (the least, W_LEAST)
     if fold_near_axis(p, a, K):
         # the approach (nearly) along axis 1: the fold gap in theta1 as well, and on a finer grid
         # next to the fold (two roots there can be within 1e-4 in sw, one cell of the grid above)
