@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 from helpers import dh_product, pose_errors, source_distance, wrap
-from reference_ik import among
+from reference_ik import among, least_error_path_meets, reference_ik
 
 import ik7r
 
@@ -526,3 +526,37 @@ def test_axis7_on_axis1_split_from_the_seed(paper):
                     or abs(wrap(s[5] - want[1])) > 1e-9):
                 misses.append((q1, seed.round(3).tolist(), s.round(6).tolist()))
     assert misses == []
+
+
+def test_exact_member_with_the_elbow_stretched_and_the_wrist_nearly_straight():
+    """An exact family member (twist 15.8 deg, lateral offsets; integer lengths) with the elbow
+    exactly stretched and the wrist 2.3e-8 .. 3.3e-7 rad from straight: ``ik_all`` answered
+    nothing at all for these three poses made by the robot's own forward kinematics (found by
+    a hunt over 6,000 such poses of 30 random members). The candidates there are off by the
+    rounding of the stretched arm, and Newton's polish has no step: the arm is singular, and so
+    is the nearly straight wrist. Exact members now polish a candidate whose elbow is within
+    STRETCH_EXACT of the stretch by damped steps where Newton's step is not defined. Every
+    reference solution and the source must lie in the valley of an answer (the path of least
+    pose error, scipy, meets the pose at every step: the poses are flat in the split there)."""
+    dh = np.array([[0.0, 0.0, 177.0, 0.0], [223.0, -np.pi / 2, 141.0, 0.0], [1387.0, 0.0, 76.0, 0.0],
+                   [163.0, -np.pi / 2, 1209.0, 0.0], [0.0, -0.27611108766550296, 144.0, 0.0],
+                   [0.0, 0.5522221753310059, 144.0, 0.0], [0.0, -0.27611108766550296, 44.0, 0.0]])
+    robot = ik7r.robot.Robot(name="member", dh=dh)
+    assert robot.family.deviation == 0.0
+    Q = [[0.6417761714675461, -2.7672709225692973, 1.691172155497569, 1.3600754490994085,
+          2.26768182010062e-08, 2.7668696139017843],
+         [-1.4878251386706243, 0.15909547248720335, 1.691172155497569, -1.5371895713566222,
+          -3.3435025725836454e-07, 1.4939531116738287],
+         [1.8334967383977734, -2.893526602014676, 1.691172155497569, -1.0155753340700233,
+          -1.9129621309232903e-07, 1.3718328634153654]]
+    for q in map(np.array, Q):
+        T = robot.fk(q)
+        sols = robot.ik_all(T)
+        assert len(sols) > 0
+        dp, dr = pose_errors(robot.fk(sols), T)
+        assert dp.max() <= robot.position_tolerance + 1e-12
+        assert dr.max() <= 2 * robot.rotation_tolerance + 1e-15
+        wanted = [q] + list(reference_ik(robot, T))
+        for x in wanted:
+            d = np.abs(wrap(sols - x)).max(axis=1)
+            assert any(least_error_path_meets(robot, T, x, sols[k], steps=80) for k in np.argsort(d)), x

@@ -38,6 +38,7 @@ from .constants import (
     STALL_PATIENCE,
     START_REACH,
     STRAIGHT_EXACT,
+    STRETCH_EXACT,
     TURN_SLACK,
     WALK_MIN,
     WALK_SLACK,
@@ -458,8 +459,21 @@ def _polish_exact(q, Td, K, out, count, snap):
     no solution found is within SINGULAR_ALONE (:func:`on_shoulder_set`; not a snap)."""
     if _known(q, out, count, DUP_TOL):
         return _KNOWN  # the solution it would polish to is there (see _known)
-    damped = not snap and on_shoulder_set(q, K) and not _known(q, out, count, SINGULAR_ALONE)
+    damped = (not snap and (on_shoulder_set(q, K) or _elbow_stretched(q, K))
+              and not _known(q, out, count, SINGULAR_ALONE))
     return _LANDED if polish(q, Td, K, 8, damped) else _MISSED
+
+
+@njit
+def _elbow_stretched(q, K):
+    """Whether the elbow of ``q`` (user angles) is within STRETCH_EXACT of stretched or folded
+    for the straight wrist's virtual centre (the sine of its angle from there, as
+    :func:`ik7r._kernels.singular.near_stretch`): the arm is singular, and with the wrist
+    straight as well Newton's step is not defined."""
+    t3 = K[L.SIGN + 2] * q[2] + K[L.DH + 11]
+    Ld = K[L.D4] + K[L.KW]
+    a3 = K[L.A3]
+    return abs(math.sin(t3) * a3 - math.cos(t3) * K[L.EPS3] * Ld) < STRETCH_EXACT * math.hypot(a3, Ld)
 
 
 @njit

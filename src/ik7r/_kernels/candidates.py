@@ -19,7 +19,7 @@ from .constants import (
     NEAR_SINGULAR,
     STRAIGHT_DEVIATING,
     STRAIGHT_SHOULDER,
-    STRETCH_SPLIT_NEAR,
+    STRETCH_STRAIGHT,
     W_Q6,
     W_QQ,
     W_TH,
@@ -56,13 +56,13 @@ def wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, fil
     qq = ws[W_QQ:W_QQ + 6]  # q completed with a wrist solution
     if K[L.DEVIATION] > 0.0 and t5 < STRAIGHT_SHOULDER:
         shoulder = near_shoulder(th, K)
-        window = STRAIGHT_SHOULDER if shoulder or near_stretch(th, K) else STRAIGHT_DEVIATING
+        stretched = near_stretch(th, K)
+        window = STRAIGHT_SHOULDER if shoulder or stretched else STRAIGHT_DEVIATING
         # (the bend of the arm's own target: a root clamped to the end of the range is not enough)
         bent = theta5_of_bend(Q, K)
         if t5 < window and bent < window:
             # (the elbow at its stretch and the wrist straight as well: the split from starts)
-            splits = (max(t5, bent) < STRAIGHT_DEVIATING
-                      and near_stretch(th, K, STRETCH_SPLIT_NEAR))
+            splits = stretched and max(t5, bent) < STRETCH_STRAIGHT
             count = straight_family(q, Q, Td, K, out, count, ws, mats, shoulder, splits)
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
     if t5 < FOLD_WINDOW:

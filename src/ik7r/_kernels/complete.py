@@ -69,6 +69,7 @@ from .constants import (
     W_NFAM,
     W_NRSCAN,
     W_NSDIP,
+    W_NSTR,
     W_P,
     W_ROOTS,
     W_TH,
@@ -308,6 +309,7 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
     ws[W_NFAM] = 0.0
     ws[W_NRSCAN] = 0.0
     ws[W_NSDIP] = 0.0
+    ws[W_NSTR] = 0.0
     mats[MAT_MEMO_N, 0, 0] = 0.0
     mats[MAT_CW].reshape(16)[CW_REF] = wrap(hint[0]) if has_hint else 0.0
     mats[MAT_CW].reshape(16)[CW_FOUND] = 0.0

@@ -253,6 +253,12 @@ STRAIGHT_DEVIATING = 2e-2
 STRAIGHT_SHOULDER = 0.2
 SHOULDER_DEVIATING = 1e-2
 STRETCH_DEVIATING = 3e-2
+#: An exact member's candidate whose elbow is within this of stretched or folded (the sine of
+#: its angle from there) is polished with damped steps where Newton's step is not defined (the
+#: arm singular; with the wrist straight too: an exact 16 deg member with a lateral offset had
+#: no answer at all for three poses made with the elbow stretched and the wrist within 3e-7 of
+#: straight, see :func:`ik7r._kernels.answers._polish_exact`)
+STRETCH_EXACT = 1e-4
 REDUCED_GRID = 48
 #: ... and a grid value of the reduced residual below this fraction of both its neighbours (one
 #: sign) is a dip to minimise (see :func:`dips_to_zero`)
@@ -339,15 +345,28 @@ START_REACH = 0.05
 #: 3 lost no solution either over those 36,000 poses).
 STALL_PATIENCE = 6
 #: The straight wrist of a deviating model with the elbow (nearly) stretched or folded: the
-#: split is tried from this many starts over the whole turn, each polished by damped steps for at
-#: most STRETCH_ITERS (see :func:`ik7r._kernels.reduced._stretched_splits`), where the arm's
-#: elbow is within STRETCH_SPLIT_NEAR (the sine of its angle from the stretch, as
-#: STRETCH_DEVIATING) and the wrist within STRAIGHT_DEVIATING of straight (the misses seen: the
-#: elbow within 1e-6, the wrist within 1.1e-2; 48 starts wherever the straight-wrist family is
-#: scanned cost the IRB 5400's singular-set 99th percentile 75 %)
+#: split is tried from STRETCH_SPLITS starts over the whole turn, each polished by damped steps
+#: for at most STRETCH_ITERS, STRETCH_CHUNK at a time (a chunk that does not bring the error below
+#: STALL_RATIO of itself ends the start: see :func:`ik7r._kernels.reduced._split_polish`), where
+#: a candidate arm's elbow is within STRETCH_DEVIATING of the stretch (the sine of its angle
+#: from it) and the wrist within STRETCH_STRAIGHT of straight; once per
+#: arm within STRETCHED_TOL (rad, each joint) of one tried before in the pose (NSTRETCHED of
+#: them noted). The nominal arm misses the exact one by about the square root of the deviation
+#: there (a rounded member: 2e-3 in the elbow's sine, 2.5e-2 rad in the arm, the wrist 2.4e-2
+#: from straight): windows of 1e-3 and 2e-2 left 226 of 6,000 corner sources missed, these 17
+#: (docs/guide/edges.md, 2026-12-05).
 STRETCH_SPLITS = 48
 STRETCH_ITERS = 60
-STRETCH_SPLIT_NEAR = 1e-3
+STRETCH_CHUNK = 12
+STRETCH_STRAIGHT = 5e-2
+NSTRETCHED = 8
+STRETCHED_TOL = 1e-2
+#: ... and a point kept there whose wrist is within STRAIGHTEN_REACH (rad) of straight is
+#: polished with the wrist held straight (STRAIGHTEN_ITERS damped steps); where that meets the
+#: pose and a walk joins it to the point, the straight one is kept: the valley reaches the Wrist
+#: indicators' boundary, and its point there belongs to both (see :func:`_straightened`)
+STRAIGHTEN_REACH = 1e-4
+STRAIGHTEN_ITERS = 12
 #: A polish on an intermediate model of the homotopy stops once its Newton step is below this
 #: (rad; the error left is of the order of its square): the forward kinematics that would verify
 #: it is not needed there.
@@ -373,6 +392,7 @@ _W, WORK_SIZE = _offsets(
     SCAN=SCAN_GRID + 1, SUB=2 * (SCAN_PIECES + FOLD_SPLIT_PIECES), FAM=4 * NFAMILIES, NFAM=1,
     PAIR=2 * (SCAN_GRID + 1), SHORT=2 * (SCAN_GRID + 1), SPLIT=2 * FOLD_SPLIT_PIECES, LEAST=4,
     RSCAN=SCAN_MEMO * SCAN_SLOT, NRSCAN=1, SDIP=2 * SHOULDER_DIPS, NSDIP=1,
+    STR=3 * NSTRETCHED, NSTR=1,
 )
 W_MATS, W_P, W_A, W_TH, W_Q6, W_QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"], _W["QQ"]
 W_BLO, W_BHI, W_BSURE, W_FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
@@ -383,6 +403,7 @@ W_FAM, W_NFAM, W_PAIR, W_SHORT = _W["FAM"], _W["NFAM"], _W["PAIR"], _W["SHORT"]
 W_SPLIT, W_LEAST = _W["SPLIT"], _W["LEAST"]
 W_RSCAN, W_NRSCAN = _W["RSCAN"], _W["NRSCAN"]
 W_SDIP, W_NSDIP = _W["SDIP"], _W["NSDIP"]
+W_STR, W_NSTR = _W["STR"], _W["NSTR"]
 
 
 # the one angle wrap, to (-pi, pi], and the exact reduction under it (ik7r.geometry.rotations)

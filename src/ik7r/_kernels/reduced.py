@@ -26,8 +26,10 @@ from .constants import (
     MAT_M,
     MAT_Q,
     MAT_R07,
+    MAT_T,
     MAT_WR,
     NFAMILIES,
+    NSTRETCHED,
     NTH,
     OTHER_WRIST_ARM,
     PARTNER_CELLS,
@@ -45,20 +47,36 @@ from .constants import (
     SCAN_SLOT,
     STALL_PATIENCE,
     STRAIGHT_DEVIATING,
+    STRAIGHTEN_ITERS,
+    STRAIGHTEN_REACH,
+    STRETCH_CHUNK,
     STRETCH_ITERS,
     STRETCH_SPLITS,
+    STRETCHED_TOL,
     TWO_PI,
     W_A,
     W_FAM,
     W_NFAM,
     W_NRSCAN,
+    W_NSTR,
     W_P,
     W_QQ,
     W_RSCAN,
+    W_STR,
     W_TH,
     wrap,
 )
-from .fk import dh_angle, fk_jacobian, fk_user, polish, pose_error, residual, user_angle
+from .fk import (
+    ALL_JOINTS,
+    STALL_RATIO,
+    dh_angle,
+    fk_jacobian,
+    fk_user,
+    polish,
+    pose_error,
+    residual,
+    user_angle,
+)
 from .jit import njit
 from .joints import other_wrist
 from .poly import brent_next, brent_start, brent_take, illinois_step, secant_point
@@ -89,16 +107,17 @@ def straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False, stretched=F
     half turn of each is tracked back from its start too (generated(2) of the tests, a pair
     0.09 rad apart in q4 on either side of the start).
 
-    With the elbow at its stretch (or folded) as well (``stretched``: see STRETCH_SPLIT_NEAR)
+    With the elbow at its stretch (or folded) as well (``stretched``: see STRETCH_SPLITS)
     the five other joints are not regular there (the arm is singular), and the reduced
     residual may miss a solution at the straight wrist itself: the split is also tried on a
     grid of STRETCH_SPLITS over the whole turn, each start the arm with the wrist straight,
-    polished by damped steps (:func:`_stretched_splits`), for every such arm (the memo of
-    arms scanned does not hold for it)."""
+    polished by damped steps (:func:`_stretched_splits`), once per arm within STRETCHED_TOL of
+    one tried before (:func:`_split_before`; the family's memo of arms does not hold for it: an
+    arm scanned before need not have been as near the stretch)."""
     s4 = K[L.SIGN + 3]
     s7 = K[L.SIGN + 6]
     total = math.atan2(Q[1, 0], Q[0, 0]) - K[L.THETA_OFFSET4] - K[L.THETA_OFFSET7]
-    if stretched:  # (before the family's memo: an arm scanned before need not have been as near)
+    if stretched and not _split_before(q, ws):
         x = np.empty(6)
         for i in range(3):
             x[i] = q[i]
@@ -146,12 +165,73 @@ def straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False, stretched=F
 
 
 @njit(allocates=True)
+def _split_polish(x, Td, K, mats):
+    """Damped polish of a stretched split's start ``x`` (in place; see :func:`_stretched_splits`)
+    for at most STRETCH_ITERS steps, STRETCH_CHUNK at a time: it gives up where a chunk has not
+    brought the error (position over the robot's scale, or rotation) below STALL_RATIO of itself.
+    There the steps are often clamped (the start far from its solution), which
+    :func:`ik7r._kernels.fk.polish` does not count as a stall, and a start that circles would
+    run all STRETCH_ITERS steps (most of the starts of the IRB 5400's stretched elbow)."""
+    T = mats[MAT_T]
+    fk_user(x, K, T)
+    dp, dr = residual(T, Td)
+    mark = max(dp / K[L.SCALE], dr)
+    for _ in range(STRETCH_ITERS // STRETCH_CHUNK):
+        if polish(x, Td, K, STRETCH_CHUNK, True, STALL_PATIENCE):
+            return True
+        fk_user(x, K, T)
+        dp, dr = residual(T, Td)
+        err = max(dp / K[L.SCALE], dr)
+        if not err < STALL_RATIO * mark:
+            return False
+        mark = err
+    return False
+
+
+@njit(allocates=True)
+def _straightened(x, wrist, Td, K, mats):
+    """The exact ``x`` (modified in place) moved to the straight wrist (``x[4] = wrist``) where its
+    valley reaches it: a polish with the wrist held there that meets the pose and that a walk
+    joins to ``x`` is the same solution, on the Wrist indicators' boundary, so that it belongs
+    to both configurations (a rounded member's flat valley held q5 = -4.3e-9 and +5.2e-7; the
+    point kept was the latter, and ``ik`` in the source's configuration raised)."""
+    if x[4] == wrist or abs(wrap(x[4] - wrist)) > STRAIGHTEN_REACH:
+        return
+    y = x.copy()
+    y[4] = wrist
+    if polish(y, Td, K, STRAIGHTEN_ITERS, True, STALL_PATIENCE, 0.0, ALL_JOINTS ^ 0b10000) and (
+            apart(x, y) <= DUP_TOL or walked(x, y, Td, K, mats)):
+        for i in range(6):
+            x[i] = y[i]
+
+
+@njit
+def _split_before(q, ws):
+    """Whether the arm ``q[:3]`` is within STRETCHED_TOL (rad, each joint) of an arm whose
+    stretched splits (:func:`_stretched_splits`) this pose has tried; if not, it is noted (NSTRETCHED
+    of them at most, the later ones tried each time)."""
+    n = int(ws[W_NSTR])
+    for k in range(n):
+        far = 0.0
+        for i in range(3):
+            far = max(far, abs(wrap(ws[W_STR + 3 * k + i] - q[i])))
+        if far < STRETCHED_TOL:
+            return True
+    if n < NSTRETCHED:
+        for i in range(3):
+            ws[W_STR + 3 * n + i] = q[i]
+        ws[W_NSTR] = n + 1
+    return False
+
+
+@njit(allocates=True)
 def _stretched_splits(x, total, Td, K, out, count, mats):
     """The straight-wrist solutions of the arm ``x[:3]`` with its elbow (nearly) stretched or
     folded, on a deviating model: from the wrist straight (``x[4]``) with ``s4 q4 + s7 q7 =
     total`` and q4 on a grid of STRETCH_SPLITS over the whole turn, damped polishes
-    (:func:`ik7r._kernels.fk.polish`, giving up on a stall) on the exact forward kinematics;
-    each that meets the pose is added, once per valley: there the FK is flat in the split too,
+    (:func:`_split_polish`) on the exact forward kinematics; each that meets the pose is added
+    (moved to the straight wrist where its valley reaches it: :func:`_straightened`), once per
+    valley: there the FK is flat in the split too,
     and starts a grid step apart stop at different points of one band of exact poses (a rounded
     member: 16 points over 0.02 rad of q4), so a point that a walk joins to one kept before
     (:func:`ik7r._kernels.answers.walked`, within CONTINUUM_WINDOW) is that one. (On the IRB
@@ -166,7 +246,7 @@ def _stretched_splits(x, total, Td, K, out, count, mats):
         x[0], x[1], x[2], x[4] = arm0, arm1, arm2, wrist
         x[3] = -math.pi + TWO_PI * k / STRETCH_SPLITS
         x[5] = s7 * (total - s4 * x[3])
-        if not polish(x, Td, K, STRETCH_ITERS, True, STALL_PATIENCE):
+        if not _split_polish(x, Td, K, mats):
             continue
         one = False
         for i in range(nk):
@@ -175,6 +255,7 @@ def _stretched_splits(x, total, Td, K, out, count, mats):
                 one = True
                 break
         if not one:
+            _straightened(x, wrist, Td, K, mats)
             for i in range(6):
                 kept[nk, i] = x[i]
             nk += 1
