@@ -776,7 +776,7 @@ def test_folded_elbow_and_straight_wrist_without_a_candidate_at_the_stretch():
     arm within STRETCH_DEVIATING (3e-2) of the stretch: the nominal arm misses the exact one
     by about the square root of the deviation there, and the candidates' elbows were 2e-3 to
     4e-3 from the stretch (in the sine of its angle; the window was 1e-3: 226 of 6,000 such
-    sources of 30 random members were missed, 23 now). Another member's source (the elbow
+    sources of 30 random members were missed, 18 now). Another member's source (the elbow
     stretched, the wrist 2.6e-8 from straight) as well."""
     dh = np.array([[0.0, 0.0, 647.0, 0.0], [138.0, -math.pi / 2, -137.0, 0.0], [1020.0, 0.0, 21.0, 0.0],
                    [244.0, -math.pi / 2, 1325.0, 0.0], [0.0, -0.6888814557621619, 73.0, 0.0],

@@ -347,17 +347,18 @@ STALL_PATIENCE = 6
 #: The straight wrist of a deviating model with the elbow (nearly) stretched or folded: the
 #: split is tried from STRETCH_SPLITS starts over the whole turn, each polished by damped steps
 #: for at most STRETCH_ITERS, STRETCH_CHUNK at a time (a chunk that does not bring the error below
-#: STALL_RATIO of itself ends the start: see :func:`ik7r._kernels.reduced._split_polish`), where
+#: STALL_RATIO of itself ends the start: see :func:`ik7r._kernels.reduced._split_polish`; chunks
+#: of 12 found three sources more of 18,000, at 10 % more on the IRB 5400's singular-set p99), where
 #: a candidate arm's elbow is within STRETCH_DEVIATING of the stretch (the sine of its angle
 #: from it) and the wrist within STRETCH_STRAIGHT of straight; once per
 #: arm within STRETCHED_TOL (rad, each joint) of one tried before in the pose (NSTRETCHED of
 #: them noted). The nominal arm misses the exact one by about the square root of the deviation
 #: there (a rounded member: 2e-3 in the elbow's sine, 2.5e-2 rad in the arm, the wrist 2.4e-2
-#: from straight): windows of 1e-3 and 2e-2 left 226 of 6,000 corner sources missed, these 17
+#: from straight): windows of 1e-3 and 2e-2 left 226 of 6,000 corner sources missed, these 18
 #: (docs/guide/edges.md, 2026-12-05).
 STRETCH_SPLITS = 48
 STRETCH_ITERS = 60
-STRETCH_CHUNK = 12
+STRETCH_CHUNK = 6
 STRETCH_STRAIGHT = 5e-2
 NSTRETCHED = 8
 STRETCHED_TOL = 1e-2
