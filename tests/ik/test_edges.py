@@ -560,3 +560,27 @@ def test_exact_member_with_the_elbow_stretched_and_the_wrist_nearly_straight():
         for x in wanted:
             d = np.abs(wrap(sols - x)).max(axis=1)
             assert any(least_error_path_meets(robot, T, x, sols[k], steps=80) for k in np.argsort(d)), x
+
+
+@pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
+    "open (issue 12 items 1 and 2): an exact 45 deg member on the shoulder set with the wrist "
+    "0.11 rad from the fold; its solutions come in a cluster 1.5e-3 rad apart in q1, and one "
+    "is missed (docs/guide/edges.md, 2026-12-05)"))
+def test_exact_45_deg_member_on_the_shoulder_set_beside_the_fold():
+    """An exact 45 deg member without lateral offset (integer lengths), the virtual wrist centre
+    on axis 1 and the wrist 0.11 rad from fully bent (a random-member hunt, seed 6: 1 of its 300
+    shoulder-set poses). The reference finds 8 solutions, ``ik_all`` 6: the source is not among
+    them. Its nearest answers are 1.5e-3 and 3e-3 rad away in q1, and the least pose error
+    between them rises to 4,800 times the tolerance: a separate solution."""
+    dh = np.array([[0.0, 0.0, 360.0, 0.0], [298.0, -np.pi / 2, 0.0, 0.0], [751.0, 0.0, 0.0, 0.0],
+                   [36.0, np.pi / 2, 937.0, 0.0], [0.0, -np.pi / 4, 99.0, 0.0],
+                   [0.0, np.pi / 2, 99.0, 0.0], [0.0, -np.pi / 4, 97.0, 0.0]])
+    robot = ik7r.robot.Robot(name="member", dh=dh)
+    assert robot.family.deviation == 0.0
+    q = np.array([1.9194489152470418, -0.9187831916893865, 0.8850465944819286, 1.4985532538034052,
+                  -3.0299140341138955, -0.5137361095003516])
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    dp, dr = pose_errors(robot.fk(sols), T)
+    assert dp.max() <= robot.position_tolerance + 1e-12
+    assert among(robot, sols, q, T)
