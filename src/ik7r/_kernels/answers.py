@@ -47,6 +47,7 @@ from .constants import (
 )
 from .fk import ALL_JOINTS, dh_angle, fk_user, polish, residual, user_angle
 from .jit import njit
+from .singular import elbow_stretched
 
 
 @njit
@@ -467,13 +468,10 @@ def _polish_exact(q, Td, K, out, count, snap):
 @njit
 def _elbow_stretched(q, K):
     """Whether the elbow of ``q`` (user angles) is within STRETCH_EXACT of stretched or folded
-    for the straight wrist's virtual centre (the sine of its angle from there, as
-    :func:`ik7r._kernels.singular.near_stretch`): the arm is singular, and with the wrist
+    (:func:`ik7r._kernels.singular.elbow_stretched`): the arm is singular, and with the wrist
     straight as well Newton's step is not defined."""
     t3 = K[L.SIGN + 2] * q[2] + K[L.DH + 11]
-    Ld = K[L.D4] + K[L.KW]
-    a3 = K[L.A3]
-    return abs(math.sin(t3) * a3 - math.cos(t3) * K[L.EPS3] * Ld) < STRETCH_EXACT * math.hypot(a3, Ld)
+    return elbow_stretched(math.cos(t3), math.sin(t3), K, STRETCH_EXACT)
 
 
 @njit

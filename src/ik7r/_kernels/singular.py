@@ -87,7 +87,14 @@ def near_stretch(th, K, within=STRETCH_DEVIATING):
     ``within`` (default STRETCH_DEVIATING) of stretched or folded for the straight wrist's virtual centre: the
     sine of ``theta3 - atan2(eps3 L, a3)``, ``L = d4 + KW`` (the elbow's angle from the line of
     the upper arm, :func:`ik7r._kernels.arm.arm_cs`)."""
+    return elbow_stretched(th[2], th[5], K, within)
+
+
+@njit
+def elbow_stretched(c3, s3, K, within):
+    """Whether the elbow of DH cosine ``c3`` and sine ``s3`` of theta3 is ``within`` of stretched
+    or folded (the sine of its angle from there: see :func:`near_stretch`)."""
     Ld = K[L.D4] + K[L.KW]
     a3 = K[L.A3]
-    return abs(th[5] * a3 - th[2] * K[L.EPS3] * Ld) < within * math.hypot(a3, Ld)
+    return abs(s3 * a3 - c3 * K[L.EPS3] * Ld) < within * math.hypot(a3, Ld)
 
