@@ -38,14 +38,17 @@ from .constants import (
     STALL_PATIENCE,
     START_REACH,
     STRAIGHT_EXACT,
+    STRAIGHTEN_ITERS,
+    STRAIGHTEN_REACH,
     STRETCH_EXACT,
     TURN_SLACK,
+    VALLEY_WALK,
     WALK_MIN,
     WALK_SLACK,
     WALK_STEP,
     wrap,
 )
-from .fk import ALL_JOINTS, dh_angle, fk_user, polish, residual, user_angle
+from .fk import ALL_JOINTS, dh_angle, fk_user, newton_undefined, polish, residual, user_angle
 from .jit import njit
 from .singular import elbow_stretched
 
@@ -152,12 +155,32 @@ def _insert(q, out, count, Td, K, mats, shoulder):
         if (shoulder and far < CONTINUUM_WINDOW and mats[MAT_CW].reshape(16)[CW_FOUND] != 0.0
                 and on_shoulder_set(out[k], K) and walked(out[k], q, Td, K, mats)):
             return count  # (beside a continuum: see CONTINUUM_WINDOW)
+        if _one_valley(out[k], q, far, Td, K, mats):
+            if bend(q, K) < bend(out[k], K):
+                for i in range(6):
+                    out[k, i] = q[i]
+            return count
     if count == out.shape[0]:
         raise RuntimeError("ik7r: more distinct solutions than the output holds (MAX_SOLUTIONS); "
                            "none is dropped silently: please report the pose")
     for i in range(6):
         out[count, i] = q[i]
     return count + 1
+
+
+@njit
+def _one_valley(q0, q1, far, Td, K, mats):
+    """Whether the exact ``q0`` and ``q1`` (``far`` apart, rad) of a model that deviates from the
+    idealised one are one solution of a nearly straight wrist: both within STRAIGHTEN_REACH of
+    straight, closer than CONTINUUM_WINDOW, and joined by a walk of VALLEY_WALK points at least
+    (:func:`walked`). There the FK is flat in the split, and polishes from a grid of starts (or
+    from a scan's dip) stop at different points of one valley (a rounded member: four points
+    over 2.6e-3 rad of q4, which the path of least pose error joins); its curve leaves the
+    straight segment of :func:`_joined`. The walk is finer than WALK_MIN's (three inner points
+    over such a pair) so that where two valleys nearly touch, the error's rise between them
+    shows at one of its points."""
+    return (K[L.DEVIATION] > 0.0 and far < CONTINUUM_WINDOW and bend(q0, K) <= STRAIGHTEN_REACH
+            and bend(q1, K) <= STRAIGHTEN_REACH and walked(q0, q1, Td, K, mats, VALLEY_WALK))
 
 
 @njit
@@ -269,15 +292,15 @@ def _beside(m, sgn, x, Td, K, mats):
 
 
 @njit
-def walked(a, b, Td, K, mats):
+def walked(a, b, Td, K, mats, least=WALK_MIN):
     """Whether a walk from the exact ``a`` to the exact ``b`` stays exact: its points WALK_STEP
-    apart on the segment (WALK_MIN of them at least: a shorter walk would check nothing), each
-    that misses the pose polished onto it by damped steps with the joint of the largest
-    difference held (the walk's parameter), no joint moved from the walk's point before it by
-    more than twice its own share of the difference (plus WALK_SLACK): a walk that keeps to one
-    solution and jumps to the other at its last step is no walk. Where the FK is flat an exact valley may
-    curve away from the straight segment (:func:`_joined`) between two of its points; a walk
-    that jumps is not one valley."""
+    apart on the segment (``least`` of them at least, WALK_MIN: a shorter walk would check
+    nothing), each that misses the pose polished onto it by damped steps with the joint of the
+    largest difference held (the walk's parameter), no joint moved from the walk's point before
+    it by more than twice its own share of the difference (plus WALK_SLACK): a walk that keeps
+    to one solution and jumps to the other at its last step is no walk. Where the FK is flat an
+    exact valley may curve away from the straight segment (:func:`_joined`) between two of its
+    points; a walk that jumps is not one valley."""
     w = mats[MAT_WALK].reshape(16)
     x = w[:6]
     prev = w[6:12]
@@ -288,7 +311,7 @@ def walked(a, b, Td, K, mats):
         if d > far:
             far = d
             j = i
-    n = max(WALK_MIN, int(math.ceil(far / WALK_STEP)))
+    n = max(least, int(math.ceil(far / WALK_STEP)))
     for i in range(6):
         prev[i] = a[i]
     for k in range(1, n + 1):
@@ -376,6 +399,30 @@ def _drop_straight_shadows(out, count, k, K):
     return keep
 
 
+@njit(allocates=True)
+def straightened(x, Td, K, mats, flat=False):
+    """The exact ``x`` (modified in place) of a model that deviates from the idealised one moved
+    to the straight wrist where its valley reaches it: within STRAIGHTEN_REACH of straight, a
+    polish with the wrist held there that meets the pose and that a walk joins to ``x`` is the
+    same solution, on the Wrist indicators' boundary, so that it belongs to both configurations
+    (a rounded member's flat valley held q5 = -4.3e-9 and +5.2e-7; the point kept was the
+    latter, and ``ik`` in the source's configuration raised). ``flat``: only where Newton's step
+    at ``x`` is not defined (:func:`ik7r._kernels.fk.newton_undefined`: a valley; the IRB 5400's
+    isolated nearly straight solutions have pivots of 4e-11 and more, which no held-straight
+    polish would join, and trying cost a third of its singular row's median)."""
+    wrist = user_angle(4, 0.0, K)
+    if x[4] == wrist or abs(wrap(x[4] - wrist)) > STRAIGHTEN_REACH:
+        return
+    if flat and not newton_undefined(x, Td, K):
+        return
+    y = x.copy()
+    y[4] = wrist
+    if polish(y, Td, K, STRAIGHTEN_ITERS, True, STALL_PATIENCE, 0.0, ALL_JOINTS ^ 0b10000) and (
+            apart(x, y) <= DUP_TOL or walked(x, y, Td, K, mats)):
+        for i in range(6):
+            x[i] = y[i]
+
+
 @njit
 def _joined(q0, q1, mid, Td, K, mats):
     """Whether the segment from ``q0`` to ``q1`` is exact all along (checked at a quarter, half
@@ -421,6 +468,8 @@ def accept(q, Td, K, out, count, mats, snap=False, follow=True):
             outcome = _polish_exact(q, Td, K, out, count, snap)
         if outcome != _LANDED:
             return count, outcome == _KNOWN
+    if K[L.DEVIATION] > 0.0:
+        straightened(q, Td, K, mats, True)
     return add_answer(q, out, count, Td, K, mats), True
 
 
@@ -447,7 +496,9 @@ def _polish_deviating(q, dp, Td, K, follow, mats):
     for k in range(L.HOMOTOPY_STEPS if follow else 0):
         polish(q, Td, K[L.HOMOTOPY + k * L.BASE_SIZE:L.HOMOTOPY + (k + 1) * L.BASE_SIZE], 4,
                False, 0, HOMOTOPY_SETTLE)
-    exact = polish(q, Td, K, 30, False, STALL_PATIENCE)
+    # (damped where Newton's step is not defined: a candidate at a nearly straight wrist, whose
+    # split the FK hardly sees, stopped 1.6e-7 mm off at once, its solution 4e-6 rad away)
+    exact = polish(q, Td, K, 30, True, STALL_PATIENCE)
     _remember(entry, exact, mats)
     return _LANDED if exact else _MISSED
 

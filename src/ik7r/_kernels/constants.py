@@ -76,6 +76,9 @@ FLOOR_ITERS = 4
 CONTINUUM_WINDOW = 3e-2
 WALK_STEP = 2e-3
 WALK_MIN = 4  # (points at least: a walk shorter than WALK_STEP is checked at its quarters too)
+#: ... and at least this many where two nearly straight solutions of a deviating model would be
+#: one valley (see :func:`ik7r._kernels.answers._one_valley`)
+VALLEY_WALK = 40
 WALK_SLACK = DUP_TOL  # (how much farther than twice its share a walk's step may move a joint)
 #: ... and a point of the continuum turned to another joint 1 that misses the pose by no more
 #: than this many times the tolerances is polished onto it (see :func:`_turn_onto`).
@@ -365,7 +368,8 @@ STRETCHED_TOL = 1e-2
 #: ... and a point kept there whose wrist is within STRAIGHTEN_REACH (rad) of straight is
 #: polished with the wrist held straight (STRAIGHTEN_ITERS damped steps); where that meets the
 #: pose and a walk joins it to the point, the straight one is kept: the valley reaches the Wrist
-#: indicators' boundary, and its point there belongs to both (see :func:`_straightened`)
+#: indicators' boundary, and its point there belongs to both (see
+#: :func:`ik7r._kernels.answers.straightened`; also for any answer where Newton's step is not defined)
 STRAIGHTEN_REACH = 1e-4
 STRAIGHTEN_ITERS = 12
 #: A polish on an intermediate model of the homotopy stops once its Newton step is below this

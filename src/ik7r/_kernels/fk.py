@@ -320,6 +320,23 @@ def polish(q, Td, K, max_iter, damped=False, patience=0, settle=0.0, moving=ALL_
 
 #: See :func:`polish`: the error must fall below this fraction of itself every ``patience`` steps.
 STALL_RATIO = 0.9
+#: ... and Newton's step is not defined where the Jacobian's least pivot (relative to its largest
+#: entry, :func:`solve6`) is below this.
+NEWTON_PIVOT = 1e-14
+
+
+@njit(allocates=True)
+def newton_undefined(q, Td, K):
+    """Whether Newton's step of :func:`polish` at ``q`` (user angles) is not defined for the
+    pose ``Td``: the Jacobian singular to its pivot test (NEWTON_PIVOT). Where ``q`` is exact,
+    the FK is flat there: ``q`` is a point of a valley of exact poses."""
+    T = np.empty((4, 4))
+    J = np.empty((6, 6))
+    ZO = np.empty((7, 6))
+    e = np.empty(6)
+    fk_jacobian(q, K, T, J, ZO)
+    pose_error(T, Td, e, ZO[:3, :3])
+    return solve6(J, e, np.empty(6)) < NEWTON_PIVOT
 
 
 #: Damping of :func:`_damped_step`, relative to the mean squared singular value of the
@@ -393,7 +410,8 @@ def polish_into(q, Td, K, max_iter, T, J, e, dq, ZO, damped=False, patience=0, s
         if moving != ALL_JOINTS:
             if not _damped_step(q, Td, K, T, J, e, dq, ZO, moving):
                 return False
-        elif solve6(J, e, dq) < 1e-14 and not (damped and _damped_step(q, Td, K, T, J, e, dq, ZO)):
+        elif solve6(J, e, dq) < NEWTON_PIVOT and not (damped and _damped_step(q, Td, K, T, J, e, dq,
+                                                                              ZO)):
             return False
         # a limited step keeps the polish on the solution it started near
         big = 0.0

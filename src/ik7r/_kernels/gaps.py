@@ -161,19 +161,24 @@ def gap_root(t0, t1, g0, g1, p, a, front, elbow, K, th):
 
 
 @njit
-def gap_min(t0, t1, p, a, front, elbow, K, th, floor=0.0):
+def gap_min(t0, t1, p, a, front, elbow, K, th, floor=0.0, toward=0.0):
     """The least |bend gap| in [t0, t1] (Brent's minimiser); (t, |gap|, gap, ok) with the gap
     and its ``ok`` at t (|gap| is inf where not ok). ``floor`` > 0: stop once the bracket is
     below DIP_EARLY of [t0, t1] with the least |gap| so far at or above ``floor`` (the minimum
-    is then only known to be about that high). (The value at the least point is kept from the
-    search, not evaluated again; ``th`` holds the arm of the last point evaluated.)"""
+    is then only known to be about that high). ``toward`` +-1: the least ``toward * gap``
+    instead, up to the first point where it is negative (where a dip's bottom is a root,
+    whether the gap crosses zero twice there: a point between the two roots). (The value at
+    the least point is kept from the search, not evaluated again; ``th`` holds the arm of the
+    last point evaluated.)"""
     st, t = brent_start(t0, t1)
     early = DIP_EARLY * (t1 - t0)
     fx = 0.0
     okx = False
     for _ in range(200):
         f, ok = gap(t, p, a, front, elbow, K, th)
-        st = brent_take(st, t, abs(f) if ok else np.inf)
+        if ok and toward * f < 0.0:
+            return t, abs(f), f, ok
+        st = brent_take(st, t, (abs(f) if toward == 0.0 else toward * f) if ok else np.inf)
         if st[2] == t:
             fx, okx = f, ok
         if floor > 0.0 and st[1] - st[0] < early and st[5] >= floor:

@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from . import params as L
-from .answers import accept, add_answer, apart, bend, theta5, walked
+from .answers import accept, add_answer, apart, bend, straightened, theta5, walked
 from .constants import (
     CLOSED_TOL,
     CONTINUUM_WINDOW,
@@ -47,8 +47,6 @@ from .constants import (
     SCAN_SLOT,
     STALL_PATIENCE,
     STRAIGHT_DEVIATING,
-    STRAIGHTEN_ITERS,
-    STRAIGHTEN_REACH,
     STRETCH_CHUNK,
     STRETCH_ITERS,
     STRETCH_SPLITS,
@@ -67,12 +65,11 @@ from .constants import (
     wrap,
 )
 from .fk import (
-    ALL_JOINTS,
     STALL_RATIO,
     dh_angle,
     fk_jacobian,
     fk_user,
-    polish,
+    polish_into,
     pose_error,
     residual,
     user_angle,
@@ -164,20 +161,22 @@ def straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False, stretched=F
                          ws, mats)
 
 
-@njit(allocates=True)
-def _split_polish(x, Td, K, mats):
+@njit
+def _split_polish(x, Td, K, mats, J, e, dq, ZO):
     """Damped polish of a stretched split's start ``x`` (in place; see :func:`_stretched_splits`)
     for at most STRETCH_ITERS steps, STRETCH_CHUNK at a time: it gives up where a chunk has not
     brought the error (position over the robot's scale, or rotation) below STALL_RATIO of itself.
     There the steps are often clamped (the start far from its solution), which
     :func:`ik7r._kernels.fk.polish` does not count as a stall, and a start that circles would
-    run all STRETCH_ITERS steps (63 of the 144 starts of an IRB 5400 pose, elbow stretched)."""
+    run all STRETCH_ITERS steps (63 of the 144 starts of an IRB 5400 pose, elbow stretched).
+    ``J`` (6, 6), ``e``, ``dq`` (6,) and ``ZO`` (7, 6): the polish's work arrays
+    (:func:`ik7r._kernels.fk.polish_into`), the caller's for all its starts."""
     T = mats[MAT_T]
     fk_user(x, K, T)
     dp, dr = residual(T, Td)
     mark = max(dp / K[L.SCALE], dr)
     for _ in range(STRETCH_ITERS // STRETCH_CHUNK):
-        if polish(x, Td, K, STRETCH_CHUNK, True, STALL_PATIENCE):
+        if polish_into(x, Td, K, STRETCH_CHUNK, T, J, e, dq, ZO, True, STALL_PATIENCE):
             return True
         fk_user(x, K, T)
         dp, dr = residual(T, Td)
@@ -186,23 +185,6 @@ def _split_polish(x, Td, K, mats):
             return False
         mark = err
     return False
-
-
-@njit(allocates=True)
-def _straightened(x, wrist, Td, K, mats):
-    """The exact ``x`` (modified in place) moved to the straight wrist (``x[4] = wrist``) where its
-    valley reaches it: a polish with the wrist held there that meets the pose and that a walk
-    joins to ``x`` is the same solution, on the Wrist indicators' boundary, so that it belongs
-    to both configurations (a rounded member's flat valley held q5 = -4.3e-9 and +5.2e-7; the
-    point kept was the latter, and ``ik`` in the source's configuration raised)."""
-    if x[4] == wrist or abs(wrap(x[4] - wrist)) > STRAIGHTEN_REACH:
-        return
-    y = x.copy()
-    y[4] = wrist
-    if polish(y, Td, K, STRAIGHTEN_ITERS, True, STALL_PATIENCE, 0.0, ALL_JOINTS ^ 0b10000) and (
-            apart(x, y) <= DUP_TOL or walked(x, y, Td, K, mats)):
-        for i in range(6):
-            x[i] = y[i]
 
 
 @njit
@@ -230,7 +212,8 @@ def _stretched_splits(x, total, Td, K, out, count, mats):
     folded, on a deviating model: from the wrist straight (``x[4]``) with ``s4 q4 + s7 q7 =
     total`` and q4 on a grid of STRETCH_SPLITS over the whole turn, damped polishes
     (:func:`_split_polish`) on the exact forward kinematics; each that meets the pose is added
-    (moved to the straight wrist where its valley reaches it: :func:`_straightened`), once per
+    (moved to the straight wrist where its valley reaches it:
+    :func:`ik7r._kernels.answers.straightened`), once per
     valley: there the FK is flat in the split too,
     and starts a grid step apart stop at different points of one band of exact poses (a rounded
     member: 16 points over 0.02 rad of q4), so a point that a walk joins to one kept before
@@ -241,12 +224,13 @@ def _stretched_splits(x, total, Td, K, out, count, mats):
     s7 = K[L.SIGN + 6]
     arm0, arm1, arm2, wrist = x[0], x[1], x[2], x[4]
     kept = np.empty((STRETCH_SPLITS, 6))
+    J, e, dq, ZO = np.empty((6, 6)), np.empty(6), np.empty(6), np.empty((7, 6))
     nk = 0
     for k in range(STRETCH_SPLITS):
         x[0], x[1], x[2], x[4] = arm0, arm1, arm2, wrist
         x[3] = -math.pi + TWO_PI * k / STRETCH_SPLITS
         x[5] = s7 * (total - s4 * x[3])
-        if not _split_polish(x, Td, K, mats):
+        if not _split_polish(x, Td, K, mats, J, e, dq, ZO):
             continue
         one = False
         for i in range(nk):
@@ -255,7 +239,7 @@ def _stretched_splits(x, total, Td, K, out, count, mats):
                 one = True
                 break
         if not one:
-            _straightened(x, wrist, Td, K, mats)
+            straightened(x, Td, K, mats)
             for i in range(6):
                 kept[nk, i] = x[i]
             nk += 1

@@ -269,19 +269,24 @@ def gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
                 # (at an end of the range, the straight or fully bent wrist, the one neighbour
                 # is taken twice: a minimum there is refined over its one cell)
                 g0, g1, g2 = gs[max(i - 1, 1 - i)], gs[i], gs[min(i + 1, 2 * m - 1 - i)]
-                if (0 < i < m and abs(g1) < GAP_NEAR_END
-                        and math.isfinite(g0) != math.isfinite(g2)):
+                if 0 < i < m and math.isfinite(g1) and math.isfinite(g0) != math.isfinite(g2):
                     # the branch ends in the cell beside: a near miss between the end and this
                     # point (the elbow nearly stretched) has no grid point of its own
                     out_i = i - 1 if math.isfinite(g2) else i + 1
                     g_in = g2 if math.isfinite(g2) else g0
                     if g1 * g_in > 0.0 and abs(g1) <= abs(g_in):
                         t_e = branch_end(top * i / m, top * out_i / m, p, a, front, elbow, K, th)
-                        tm, fm, gm, okm = gap_min(min(t_e, top * i / m), max(t_e, top * i / m),
-                                                   p, a, front, elbow, K, th)
-                        if okm and fm < GAP_NEAR_DEPTH and gm * g1 > 0.0:
-                            count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint,
-                                                   has_hint, out, count, filt, ws, mats)
+                        # (far from zero at the grid point, the gap may still reach it at the
+                        # end: it is as steep as a square root there; a rounded member's
+                        # -0.6 a cell from an end of -2e-5 hid a pair of solutions)
+                        g_e, ok_e = bend_gap(t_e, p, a, front, elbow, K, th)
+                        if abs(g1) < GAP_NEAR_END or (ok_e and abs(g_e) < GAP_NEAR_DEPTH):
+                            tm, fm, gm, okm = gap_min(min(t_e, top * i / m),
+                                                       max(t_e, top * i / m), p, a, front, elbow,
+                                                       K, th)
+                            if okm and fm < GAP_NEAR_DEPTH and gm * g1 > 0.0:
+                                count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint,
+                                                       has_hint, out, count, filt, ws, mats)
                     continue
                 if not (abs(g1) < GAP_NEAR_GRID and g0 * g1 > 0.0 and g1 * g2 > 0.0
                         and abs(g1) <= abs(g0) and abs(g1) <= abs(g2)):
@@ -369,6 +374,8 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
             # (the gaps in theta1, front 0 and 3, are minimised to the end: see DIP_FLOOR)
             tm, fm, gm, okm = gap_min(t_lo, t_hi, p, a, front, elbow, K, th,
                                        DIP_FLOOR if front != 0.0 and front != 3.0 else 0.0)
+            nest = SCAN_NEST_FOLD_AXIS if front == 3.0 else SCAN_NEST
+            nests = fm < near and 2 * npieces < len(sub) and t_hi - t_lo >= nest * (sub[1] - sub[0])
             if okm and gm * gi < 0.0:
                 for t_end, g_end in ((t_lo, gs[lo_i]), (t_hi, gs[hi_i])):
                     if math.isfinite(g_end) and g_end * gm < 0.0:
@@ -376,14 +383,27 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
                                        gm if t_end < tm else g_end, p, a, front, elbow, K, th)
                         count = _gap_candidate(tr, p, a, front, elbow, R07, Td, K, hint, has_hint,
                                                out, count, filt, ws, mats)
+            elif okm and fm < SCAN_NEAR and not nests:
+                # the bottom is a root, but the gap has the grid's sign on either side of it: it
+                # has a partner in these cells, which no finer grid will scan, unless it is a
+                # tangency (a shoulder-set pair 3e-3 rad apart with 1.7e-7 between them, where
+                # the least |gap| was the one whose side has the grid's sign). Past the signed
+                # gap's extremum, the side away from this root holds the partner.
+                tx, _, gx, okx = gap_min(t_lo, t_hi, p, a, front, elbow, K, th, 0.0,
+                                         1.0 if gi > 0.0 else -1.0)
+                t_end, g_end = (t_hi, gs[hi_i]) if tm < tx else (t_lo, gs[lo_i])
+                if okx and gx * gi < 0.0 and math.isfinite(g_end) and g_end * gx < 0.0:
+                    tr = gap_root(min(t_end, tx), max(t_end, tx), g_end if t_end < tx else gx,
+                                   gx if t_end < tx else g_end, p, a, front, elbow, K, th)
+                    count = _gap_candidate(tr, p, a, front, elbow, R07, Td, K, hint, has_hint,
+                                           out, count, filt, ws, mats)
             if fm < near:  # (also when split: at a tangency the bottom itself is the root)
                 t = tm
                 have = True
             if (front == 0.0 and K[L.DEVIATION] > 0.0 and fm < SHOULDER_DIP and ta == sub[0]
                     and tb == sub[1]):
                 count = _shoulder_exact(tm, elbow, p, a, R07, Td, K, hint, out, count, ws, mats)
-            nest = SCAN_NEST_FOLD_AXIS if front == 3.0 else SCAN_NEST
-            if fm < near and 2 * npieces < len(sub) and t_hi - t_lo >= nest * (sub[1] - sub[0]):
+            if nests:
                 # a dip that reaches (nearly) zero may hide more than one root: scan it again
                 # on a grid of its own
                 sub[2 * npieces] = t_lo
