@@ -279,8 +279,11 @@ def gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
                         # (far from zero at the grid point, the gap may still reach it at the
                         # end: it is as steep as a square root there; a rounded member's
                         # -0.6 a cell from an end of -2e-5 hid a pair of solutions)
-                        g_e, ok_e = bend_gap(t_e, p, a, front, elbow, K, th)
-                        if abs(g1) < GAP_NEAR_END or (ok_e and abs(g_e) < GAP_NEAR_DEPTH):
+                        near_end = abs(g1) < GAP_NEAR_END
+                        if not near_end:
+                            g_e, ok_e = bend_gap(t_e, p, a, front, elbow, K, th)
+                            near_end = ok_e and abs(g_e) < GAP_NEAR_DEPTH
+                        if near_end:
                             tm, fm, gm, okm = gap_min(min(t_e, top * i / m),
                                                        max(t_e, top * i / m), p, a, front, elbow,
                                                        K, th)
@@ -379,10 +382,8 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
             if okm and gm * gi < 0.0:
                 for t_end, g_end in ((t_lo, gs[lo_i]), (t_hi, gs[hi_i])):
                     if math.isfinite(g_end) and g_end * gm < 0.0:
-                        tr = gap_root(min(t_end, tm), max(t_end, tm), g_end if t_end < tm else gm,
-                                       gm if t_end < tm else g_end, p, a, front, elbow, K, th)
-                        count = _gap_candidate(tr, p, a, front, elbow, R07, Td, K, hint, has_hint,
-                                               out, count, filt, ws, mats)
+                        count = _root_between(t_end, g_end, tm, gm, p, a, front, elbow, R07, Td,
+                                              K, hint, has_hint, out, count, filt, ws, mats)
             elif okm and fm < SCAN_NEAR and not nests:
                 # the bottom is a root, but the gap has the grid's sign on either side of it: it
                 # has a partner in these cells, which no finer grid will scan, unless it is a
@@ -393,10 +394,8 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
                                          1.0 if gi > 0.0 else -1.0)
                 t_end, g_end = (t_hi, gs[hi_i]) if tm < tx else (t_lo, gs[lo_i])
                 if okx and gx * gi < 0.0 and math.isfinite(g_end) and g_end * gx < 0.0:
-                    tr = gap_root(min(t_end, tx), max(t_end, tx), g_end if t_end < tx else gx,
-                                   gx if t_end < tx else g_end, p, a, front, elbow, K, th)
-                    count = _gap_candidate(tr, p, a, front, elbow, R07, Td, K, hint, has_hint,
-                                           out, count, filt, ws, mats)
+                    count = _root_between(t_end, g_end, tx, gx, p, a, front, elbow, R07, Td, K,
+                                          hint, has_hint, out, count, filt, ws, mats)
             if fm < near:  # (also when split: at a tangency the bottom itself is the root)
                 t = tm
                 have = True
@@ -703,6 +702,18 @@ def scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
         count = scan_theta5(0.0, 1e-2 * math.sqrt(FOLD_SPAN), p, a, R07, Td, K, hint, has_hint,
                              out, count, filt, ws, mats, 2.0)
     return count
+
+
+@njit
+def _root_between(t0, g0, t1, g1, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count,
+                  filt, ws, mats):
+    """The gap's root between ``t0`` and ``t1`` (in either order; its values there ``g0`` and
+    ``g1`` of opposite signs, :func:`gap_root`), completed by :func:`_gap_candidate`."""
+    th = ws[W_TH:W_TH + NTH]
+    lo, glo, hi, ghi = (t0, g0, t1, g1) if t0 < t1 else (t1, g1, t0, g0)
+    tr = gap_root(lo, hi, glo, ghi, p, a, front, elbow, K, th)
+    return _gap_candidate(tr, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt,
+                          ws, mats)
 
 
 @njit
