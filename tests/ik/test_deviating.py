@@ -406,6 +406,35 @@ def test_near_shoulder_other_wrist_at_a_dip_that_is_no_root():
     assert _reference_missed(robot, q) == []
 
 
+def test_near_shoulder_pair_in_the_first_cell_of_an_outward_scan():
+    """A rounded member without lateral offset (deviation 1e-4 rad) on the shoulder set, the
+    wrist bent 1.6 rad (a random-member hunt, seed 46: 1 of 300 such poses). The exact model's
+    reduced residual in q1 has three roots within 0.09 rad (q1 = 1.583, 1.629, 1.672; the source
+    the last), and the shoulder set's exact scans start at the nominal gap's bottom, 1.6261, and
+    go out 0.05 rad a cell: the upward one holds the last two in its first cell, whose ends
+    share a sign, and a first cell has no point before it for the three-point test of a dip. The
+    source was missed, by the reference too (14 answers, 12 reference solutions). The parabola
+    through the first three values now marks a dip inside the first cell
+    (``reduced.first_cell_dips``: 3.8e-11, 1.1e-10, 4.4e-9 turn at a third of the cell, below
+    zero). Every reference solution and the source must be answers, and no two answers one
+    solution."""
+    dh = np.array([[0.0, 0.0, 888.0, 0.0], [155.0, math.pi / 2, 0.0, 0.0], [839.0, 0.0, 0.0, 0.0],
+                   [18.0, -math.pi / 2, 701.0, 0.0], [0.0, -0.36704274169440754, 112.0, 0.0],
+                   [0.0, 0.7339109504636155, 112.0, 0.0], [0.0, -0.36704274169440754, 71.0, 0.0]])
+    robot = Robot(name="member", dh=dh)
+    assert robot.family.deviation > 0.0
+    q = np.array([1.6718183278743588, -1.7811089404598528, -1.3140694710516234, -2.3219131078235327,
+                  -1.6226653862154663, -0.5028101480632632])
+    assert misses(robot, q[None]) == []
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    assert [x.tolist() for x in reference_ik(robot, T) if not among(robot, sols, x, T)] == []
+    arm = sols[np.abs(wrap(sols[:, 1:3] - q[1:3])).max(axis=1) < 1e-3]  # (the source's arm)
+    assert len(arm) == 6 and len(np.unique(np.round(arm[:, 0], 3))) == 3, arm  # (3 roots, 2 wrists)
+    one = [(i, j) for i in range(len(sols)) for j in range(i) if among(robot, sols[j:j + 1], sols[i], T)]
+    assert one == []
+
+
 @pytest.mark.parametrize("name", ["irb5400", "rounded_b35", "rounded_b45", "rounded2"])
 def test_near_shoulder_set_of_deviating_models(irb, name):
     """400 sources per robot with the virtual centre 1e-9 .. 1e-3 of the size from axis 1 (the

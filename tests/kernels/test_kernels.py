@@ -191,6 +191,30 @@ def test_brent_minimiser_takes_its_bracket_in_either_order(lo, hi):
     assert abs(st[2] - 0.3) <= 1e-6
 
 
+@pytest.mark.parametrize(("roots", "floor", "dips"), [
+    ((0.06, 0.92), 0.0, True),  # (two roots in the first cell)
+    ((0.5, 0.5), 0.0, True),  # (a tangency inside it)
+    ((0.5, 0.5), 0.2, True),  # (down to 0.2 from 0.45 at both ends: below half)
+    ((0.5, 0.5), 1.0, False),  # (a shallow bottom, 1.0 against 1.25)
+    ((-0.5, -0.5), 0.1, False),  # (its bottom before the first point)
+    ((1.3, 1.3), 0.0, False),  # (its bottom in the second cell: dips_to_zero's)
+    ((-2.0, 4.0), 0.0, False),  # (its bottom at the second point, far below zero: no dip here)
+])
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_first_cell_dip_of_a_parabola(roots, floor, dips, sign):
+    """``reduced.first_cell_dips`` on a parabola ``sign ((x - r1) (x - r2) + floor)`` sampled at
+    x = 0, 1, 2 (a scan's first three points), against where its bottom is (written here): a dip
+    inside the first cell (0 < x < 1) that comes down to half of its lesser end or beyond zero."""
+    x = np.array([0.0, 1.0, 2.0])
+    r = sign * ((x - roots[0]) * (x - roots[1]) + floor)
+    assert (r[0] * r[1] > 0.0) or not dips  # (a first cell without a sign change)
+    bottom_x = 0.5 * (roots[0] + roots[1])
+    bottom = sign * (floor - 0.25 * (roots[1] - roots[0]) ** 2)
+    expected = 0.0 < bottom_x < 1.0 and (abs(bottom) < 0.5 * min(abs(r[0]), abs(r[1])) or bottom * r[0] <= 0)
+    assert expected == dips
+    assert _reduced.first_cell_dips(r[0], r[1], r[2]) == dips
+
+
 @pytest.mark.parametrize("undefined", [np.inf, np.nan])
 @pytest.mark.parametrize("edge", [0.05, 0.2, 0.45, 0.7])
 def test_brent_minimiser_where_the_function_is_undefined(edge, undefined):

@@ -388,6 +388,19 @@ def _least_squares_step(J, e, j, A, g, dq):
 
 
 @njit
+def _parabola_bottom(r0, r1, r2):
+    """The parabola through three equally spaced values ``r0``, ``r1``, ``r2`` (at -1, 0, 1):
+    (where it turns, its value there, whether it turns back away from zero: its curvature has
+    the sign of ``r1``)."""
+    c = 0.5 * (r0 + r2) - r1
+    b = 0.5 * (r2 - r0)
+    if c == 0.0 or (c > 0.0) != (r1 > 0.0):
+        return 0.0, r1, False
+    t = -b / (2.0 * c)
+    return t, r1 + b * t + c * t * t, True
+
+
+@njit
 def dips_to_zero(r0, r1, r2):
     """Whether the parabola through three equally spaced values of one sign (``r1`` the least in
     magnitude) comes down to half of ``r1`` or beyond zero between them, or ``r1`` is below
@@ -397,15 +410,27 @@ def dips_to_zero(r0, r1, r2):
     6e-7, while the residual's two roots 0.01 rad apart lie 0.01 rad from the least sample.)"""
     if abs(r1) < DIP_SHARP * min(abs(r0), abs(r2)):
         return True
-    c = 0.5 * (r0 + r2) - r1
-    b = 0.5 * (r2 - r0)
-    if c == 0.0 or (c > 0.0) != (r1 > 0.0):
+    t, bottom, turns = _parabola_bottom(r0, r1, r2)
+    if not turns or abs(t) > 1.0:
         return False
-    t = -b / (2.0 * c)
-    if abs(t) > 1.0:
-        return False
-    bottom = r1 + b * t + c * t * t
     return (bottom < 0.5 * r1) if r1 > 0.0 else (bottom > 0.5 * r1)  # (or beyond zero)
+
+
+@njit
+def first_cell_dips(r0, r1, r2):
+    """Whether a scan's first cell, between its first two values ``r0`` and ``r1`` (of one sign;
+    ``r2`` the third), holds a dip: the parabola through the three turns inside that cell and
+    comes down to half of the lesser of ``r0`` and ``r1`` or beyond zero. A first cell has no
+    point before it, so the three-point test of the other cells (:func:`dips_to_zero`) cannot
+    be made there; where the scan starts at a dip of its own (the shoulder set's exact scans, from
+    the nominal gap's bottom), two roots may lie in that cell (seed 46's rounded member: the
+    residual 3.8e-11, 1.1e-10, 4.4e-9 at the first three points, roots 3e-3 and 0.046 rad from
+    the start in its cell of 0.05)."""
+    t, bottom, turns = _parabola_bottom(r0, r1, r2)
+    if not turns or not -1.0 < t < 0.0:
+        return False
+    half = 0.5 * min(abs(r0), abs(r1))
+    return (bottom < half) if r1 > 0.0 else (bottom > -half)  # (or beyond zero)
 
 
 @njit
@@ -464,7 +489,8 @@ def _cell_kind(rs, es, k, kb, closed):
     """What the reduced scan refines in its cell ``k`` (grid values ``rs`` signed, ``es`` the
     error's norm; ``kb`` the point before ``k``, on a closed curve m - 1 for k = 0): 1 a sign
     change, 2 a dip of ``|e|`` toward zero without one (below DIP_NEAR, or by
-    :func:`dips_to_zero`), 0 nothing."""
+    :func:`dips_to_zero`; in the first cell of a curve that is not closed, by
+    :func:`first_cell_dips`), 0 nothing."""
     ra = rs[k]
     rb = rs[k + 1]
     if not (math.isfinite(ra) and math.isfinite(rb)):
@@ -475,6 +501,8 @@ def _cell_kind(rs, es, k, kb, closed):
             and math.isfinite(rs[kb]) and rs[kb] * ra > 0.0
             and (es[k] < DIP_NEAR or dips_to_zero(rs[kb], ra, rb))):
         return 2
+    if k == 0 and not closed and len(rs) > 2 and math.isfinite(rs[2]) and first_cell_dips(ra, rb, rs[2]):
+        return 2  # (a dip inside the first cell: see reduced_scan for its bracket)
     return 0
 
 
@@ -627,8 +655,11 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
             for i in range(6):
                 qt[i] = qs[k, i]
             sgn = 1.0 if ra > 0.0 else -1.0
-            # the bottom of the signed residual (|e| would stop at a root), by Brent's minimiser
-            st, x = brent_start(v0 + (v1 - v0) * (k - 1) / m, vb)
+            # the bottom of the signed residual (|e| would stop at a root), by Brent's minimiser,
+            # from the point before (the first cell's dip, which has none, inside the cell)
+            lo, r_lo = (k, ra) if k == 0 and not closed else (k - 1, rs[kb])
+            v_lo = v0 + (v1 - v0) * lo / m
+            st, x = brent_start(v_lo, vb)
             for _ in range(200):
                 f, _, okf = _reduced_at(qt, j, x, Td, K, T, J, A, e, g, dq, ZO)
                 st = brent_take(st, x, sgn * f if okf else np.inf)
@@ -644,8 +675,7 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
                 # across the bottom, where both would stop at one point; not at the fully bent
                 # wrist, whose two wrist solutions that close are one
                 settle = math.pi - bend(qm, K) < FOLD_WINDOW
-                v_lo = v0 + (v1 - v0) * (k - 1) / m
-                for vx, rx in ((v_lo, rs[kb]), (vb, rb)):
+                for vx, rx in ((v_lo, r_lo), (vb, rb)):
                     for i in range(6):
                         qt[i] = qm[i]
                     _reduced_root(qt, j, min(vx, vm), max(vx, vm), rx if vx < vm else rm,
