@@ -23,6 +23,12 @@ from ik7r.robot import Robot
 SOURCE_TOL = 1e-6
 
 
+def answered_twice(robot, sols, T):
+    """Pairs (i, j) of answers ``sols`` of the pose ``T`` that are one solution: the later among
+    the earlier by the tests' rule (``reference_ik.among``)."""
+    return [(i, j) for i in range(len(sols)) for j in range(i) if among(robot, sols[j:j + 1], sols[i], T)]
+
+
 def misses(robot, Q):
     """Sources of ``Q`` not among the answers of their poses (``reference_ik.among``, every joint
     compared); every answer checked by FK."""
@@ -431,8 +437,7 @@ def test_near_shoulder_pair_in_the_first_cell_of_an_outward_scan():
     assert [x.tolist() for x in reference_ik(robot, T) if not among(robot, sols, x, T)] == []
     arm = sols[np.abs(wrap(sols[:, 1:3] - q[1:3])).max(axis=1) < 1e-3]  # (the source's arm)
     assert len(arm) == 6 and len(np.unique(np.round(arm[:, 0], 3))) == 3, arm  # (3 roots, 2 wrists)
-    one = [(i, j) for i in range(len(sols)) for j in range(i) if among(robot, sols[j:j + 1], sols[i], T)]
-    assert one == []
+    assert answered_twice(robot, sols, T) == []
 
 
 @pytest.mark.parametrize("name", ["irb5400", "rounded_b35", "rounded_b45", "rounded2"])
@@ -809,8 +814,7 @@ def test_folded_elbow_and_nearly_straight_wrist_of_a_rounded_member():
     assert misses(robot, q[None]) == []
     T = robot.fk(q)
     sols = robot.ik_all(T)
-    one = [(i, j) for i in range(len(sols)) for j in range(i) if among(robot, sols[j:j + 1], sols[i], T)]
-    assert one == []
+    assert answered_twice(robot, sols, T) == []
     # the valley holds both wrist signs (the source q5 = -4.3e-9, the damped polish's point
     # +5.2e-7): it reaches the Wrist indicators' boundary, so the solution belongs to both
     # configurations (issue 12 item 5), and ik gives it for either, from the source as seed
@@ -884,8 +888,7 @@ def test_stretched_elbow_whose_near_miss_is_at_the_branch_end():
     ref = reference_ik(robot, T)
     assert len(ref) >= 6
     assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
-    one = [(i, j) for i in range(len(sols)) for j in range(i) if among(robot, sols[j:j + 1], sols[i], T)]
-    assert one == []
+    assert answered_twice(robot, sols, T) == []
 
 
 def test_folded_elbow_and_straight_wrist_without_a_candidate_at_the_stretch():
