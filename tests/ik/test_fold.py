@@ -356,6 +356,13 @@ _STRETCH_UNSEEN_BY_THE_GRID = [
       [0.0, -math.pi / 4, 145.0, 0.0]],
      [1.0878901575337885, 1.3417185406431544, -1.6476568376801,
       -0.07833628556887451, -2.7106952617980635, 2.5937971731221294]),
+    # (a later hunt, random members of all kinds, seed 61: an island of reach 1.6e-3 wide in sw
+    # in the cell beside a meeting of the shoulder branches, the source at its end)
+    ([[0.0, 0.0, 578.0, 0.0], [254.0, math.pi / 2, -47.0, 0.0], [1107.0, 0.0, 5.0, 0.0],
+      [118.0, -math.pi / 2, 901.0, 0.0], [0.0, -math.pi / 4, 116.0, 0.0], [0.0, math.pi / 2, 116.0, 0.0],
+      [0.0, -math.pi / 4, 73.0, 0.0]],
+     [2.9753439161251043, -1.5490125346772778, 1.5783137851822038,
+      -2.263463002963058, -2.9925403193162694, -1.4941612574822907]),
 ]
 
 
@@ -368,8 +375,11 @@ def test_stretched_elbow_between_grid_points_beside_the_fold(dh, q):
     where the shoulder branches meet twice, the branch dying and born again with its elbow
     short, then stretched at the source. ``_fold_splits`` now minimises the shortfall's extremes
     near zero between grid points (a touch is a candidate, a hole or an island a piece) and
-    splits a cell at the meetings (closed form). Every reference solution must be an answer,
-    the source among them, and every answer exact."""
+    splits a cell at the meetings (closed form). The fifth (8 of 12) is an island of reach
+    between two grid points whose shortfalls fall toward a meeting in the next cell, where the
+    shortfall jumps: that cell is now no neighbour, and the island's own cell is minimised.
+    Every reference solution must be an answer, the source among them, and every answer
+    exact."""
     from reference_ik import among, reference_ik
 
     robot = Robot(name="member", dh=np.array(dh, float))

@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 from helpers import wrap
-from reference_ik import reference_fk
+from reference_ik import Chain, _Pose, reference_fk
 
 import ik7r
 from ik7r._kernels import answers as _answers
@@ -314,9 +314,45 @@ def test_gap_dips_stop_early_only_far_from_zero(name):
     assert stopped > 0
 
 
+_LATERAL_MEMBER = [[0.0, 0.0, 68.0, 0.0], [261.0, -math.pi / 2, -36.0, 0.0], [1121.0, 0.0, -112.0, 0.0],
+                   [6.0, math.pi / 2, 1159.0, 0.0], [0.0, -0.5468116546498234, 75.0, 0.0],
+                   [0.0, 1.0937978422248464, 75.0, 0.0], [0.0, -0.5468116546498234, 194.0, 0.0]]
+
+
+@pytest.mark.parametrize("name", ["irb5400", "lateral"])
+def test_reach_excess_is_the_references_elbow_cosine(name):
+    """``reach_excess`` (how far the elbow is beyond its reach, from which the near-miss scan
+    finds an arm branch's islands) is ``|K / R| - 1`` of the reference's closed-form arm
+    (``reference_ik._arm``, sharing no code with the kernels) for each shoulder branch, on a
+    grid of theta5 over [0, pi] for 40 uniform poses of the IRB 5400 and of a rounded member
+    with lateral offsets; where it is clear of zero its sign is whether the branch reaches
+    (``gap_reaches``); both signs occur."""
+    robot = (ik7r.load_robot("irb5400") if name == "irb5400"
+             else Robot(name="lateral", dh=np.array(_LATERAL_MEMBER)))
+    K = robot.kernel_params
+    ch = Chain(robot)
+    grid = np.linspace(0.0, np.pi, 33)
+    T07 = np.empty((4, 4))
+    th = np.empty(_constants.NTH)
+    signs = set()
+    for Td in robot.fk(np.random.default_rng(41).uniform(-np.pi, np.pi, (40, 6))):
+        _complete.frame07(Td, K, T07)
+        p, a = T07[:3, 3].copy(), T07[:3, 2] / np.linalg.norm(T07[:3, 2])
+        _, _, kr = _Pose(ch, Td).gaps(grid)
+        for front, row in ((1.0, kr[0]), (-1.0, kr[2])):
+            e = np.array([_gaps.reach_excess(t, p, a, front, K) for t in grid])
+            ok = np.isfinite(row)  # (the reference leaves K / R undefined inside the offset's cylinder)
+            np.testing.assert_allclose(e[ok], np.abs(row[ok]) - 1.0, rtol=0.0, atol=1e-9)
+            for t, v in zip(grid[ok], e[ok]):
+                if abs(v) > 1e-9:
+                    assert _gaps.gap_reaches(t, p, a, front, 1.0, K, th) == (v < 0.0), (front, t, v)
+                    signs.add(v < 0.0)
+    assert signs == {True, False}
+
+
 @pytest.mark.parametrize("name", ["paper", "irb5400"])
 def test_gap_reaches_is_the_gaps_ok(name):
-    """``_gap_reaches`` (the cheap predicate of the bisections for arm branch ends) is the ``ok``
+    """``gap_reaches`` (the cheap predicate of the bisections for arm branch ends) is the ``ok``
     of ``_gap`` itself, on a grid of each bend gap (theta5 on [0, pi], theta1 on the whole turn)
     and at every midpoint of a bisection for a branch end of that grid (where the two differ
     only in the last bits, if at all); both values occur."""
@@ -329,7 +365,7 @@ def test_gap_reaches_is_the_gaps_ok(name):
 
                 def both(t, K=K, p=p, a=a, th=th, front=front, elbow=elbow):
                     ok = _gaps.gap(t, p, a, front, elbow, K, th)[1]
-                    assert _gaps._gap_reaches(t, p, a, front, elbow, K, th) == ok, (front, elbow, t)
+                    assert _gaps.gap_reaches(t, p, a, front, elbow, K, th) == ok, (front, elbow, t)
                     seen.add(ok)
                     return ok
 

@@ -29,29 +29,34 @@ def shoulder_angle(rho, px, py, bp):
 
 
 @njit
-def arm_reach(px, py, pz, Ld, front, t1_hint, K, slack=1e-12):
-    """Whether :func:`arm_ik` reaches the point (its ``ok``), without its angles: (rho, xx, xy,
-    c, ok) with ``rho`` the signed distance of the point from axis 1 in the arm plane, ``(xx,
-    xy)`` the point in the plane from axis 2, ``c`` the cosine :func:`arm_ik` takes the elbow's
-    arc cosine of (clamped; ``ok`` is False where it was beyond 1 by more than ``slack``). The
-    angles' trigonometric calls are left out: a scan that only looks for where an arm branch
-    ends calls this alone."""
+def elbow_cosine(px, py, pz, Ld, front, t1_hint, K):
+    """The triangle of :func:`arm_ik` for the point, before any clamp: (rho, xx, xy, c,
+    disc) with ``rho`` the signed distance of the point from axis 1 in the arm plane, ``(xx,
+    xy)`` the point in the plane from axis 2, ``c`` the cosine the elbow's arc cosine is taken
+    of (beyond +-1 where the elbow cannot reach: smooth in the point, so a scan can see it come
+    near the reach between grid points where it is beyond) and ``disc`` the squared distance
+    of the point from the cylinder of the lateral offset around axis 1 (negative inside)."""
     a1, a2, a3, b, e1, e3, scale = arm_params(K)
-    ok = True
     r2 = px * px + py * py
     disc = r2 - b * b
-    if disc < 0.0:
-        if disc < -(1e-12 * scale) ** 2:
-            ok = False
-        disc = 0.0
-    rho = front * math.sqrt(disc)
+    rho = front * math.sqrt(max(0.0, disc))
     if not r2 > (1e-13 * scale) ** 2:
         rho = front * (px * math.cos(t1_hint) + py * math.sin(t1_hint))
     xx = rho - a1
     xy = e1 * (pz - K[L.D1])
     m = (xx * xx + xy * xy - a2 * a2 - a3 * a3 - Ld * Ld) / (2.0 * a2)
-    R = math.hypot(a3, Ld)
-    c = m / R
+    return rho, xx, xy, m / math.hypot(a3, Ld), disc
+
+
+@njit
+def arm_reach(px, py, pz, Ld, front, t1_hint, K, slack=1e-12):
+    """Whether :func:`arm_ik` reaches the point (its ``ok``), without its angles: (rho, xx, xy,
+    c, ok) as :func:`elbow_cosine` gives them, with ``c`` clamped to [-1, 1]; ``ok`` is False
+    where it was beyond 1 by more than ``slack``, or the point is inside the lateral offset's
+    cylinder by more than rounding. The angles' trigonometric calls are left out: a scan that
+    only looks for where an arm branch ends calls this alone."""
+    rho, xx, xy, c, disc = elbow_cosine(px, py, pz, Ld, front, t1_hint, K)
+    ok = disc >= -(1e-12 * K[L.SCALE]) ** 2
     if abs(c) > 1.0:
         if abs(c) > 1.0 + slack:
             ok = False

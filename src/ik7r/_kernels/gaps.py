@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from . import params as L
-from .arm import arm_cs, arm_params, arm_reach, shoulder_angle
+from .arm import arm_cs, arm_params, arm_reach, elbow_cosine, shoulder_angle
 from .constants import DIP_EARLY, FOLD_AXIS_CLAMP, FOLD_AXIS_NEAR, FOLD_BELOW, FOLD_SPAN, SCAN_TINY
 from .jit import njit
 from .poly import brent_next, brent_start, brent_take, illinois_step, secant_point
@@ -113,7 +113,7 @@ def _shoulder_bend(t1, p, a, K):
 
 
 @njit
-def _gap_reaches(t, p, a, front, elbow, K, th):
+def gap_reaches(t, p, a, front, elbow, K, th):
     """Whether the arm branch of :func:`gap` reaches at ``t`` (its ``ok``, the same to the last
     bit), at a fraction of its cost for the bend gaps (no angle of the arm, no gap): the
     bisections for the ends of arm branches in :func:`_scan_piece` ask only this."""
@@ -130,15 +130,32 @@ def _gap_reaches(t, p, a, front, elbow, K, th):
 
 
 @njit
+def reach_excess(t5, p, a, front, K):
+    """How far the elbow of the shoulder branch ``front`` (+-1) is beyond its reach at wrist
+    angle ``t5`` >= 0: ``|c| - 1`` with ``c`` the elbow's cosine before its clamp
+    (:func:`ik7r._kernels.arm.elbow_cosine`), negative where both elbow branches are defined;
+    smooth in t5 (inf at the fold of a 45 deg twist). Its dips between grid points where the
+    branch does not reach are the branch's islands (:func:`ik7r._kernels.scans.gap_near_misses`)."""
+    x, d, px, py, pz, ok = _bend_centre(t5, p, a, K)
+    if not ok:
+        return np.inf
+    return abs(elbow_cosine(px, py, pz, K[L.D4] + d, front, 0.0, K)[3]) - 1.0
+
+
+@njit
 def gap(t, p, a, front, elbow, K, th):
     """The bend gap of :func:`bend_gap` at theta5 = ``t`` on the branch (front, elbow), with
     ``front`` 0 that of :func:`shoulder_gap` at theta1 = ``t`` on the elbow branch, with
     ``front`` +-2 the fold gap of :func:`fold_gap` at ``sw = t`` on the branch (front / 2, elbow),
-    with ``front`` 3 that of :func:`_fold_axis_gap` at theta1 = ``t``."""
+    with ``front`` 3 that of :func:`_fold_axis_gap` at theta1 = ``t``; with ``front`` +-4 not a
+    gap but :func:`reach_excess` of the shoulder branch front / 4 (for :func:`gap_min`'s search
+    of an island; ``elbow`` unused)."""
     if abs(front) == 2.0:
         return fold_gap(t, p, a, 0.5 * front, elbow, K, th)
     if front == 3.0:
         return _fold_axis_gap(t, p, a, elbow, K, th)
+    if abs(front) == 4.0:
+        return reach_excess(t, p, a, 0.25 * front, K), True
     if front != 0.0:
         return bend_gap(t, p, a, front, elbow, K, th)
     return shoulder_gap(t, p, a, elbow, K, th)
@@ -192,13 +209,13 @@ def gap_min(t0, t1, p, a, front, elbow, K, th, floor=0.0, toward=0.0):
 @njit
 def branch_end(t_in, t_out, p, a, front, elbow, K, th):
     """The end of the arm branch (``front``, ``elbow``) between ``t_in``, where its gap is
-    defined, and ``t_out``, where it is not: bisection to the last bit (:func:`_gap_reaches`);
+    defined, and ``t_out``, where it is not: bisection to the last bit (:func:`gap_reaches`);
     returns the last point found on the defined side."""
     for _ in range(60):
         tm = 0.5 * (t_in + t_out)
         if tm == t_in or tm == t_out:
             break
-        if _gap_reaches(tm, p, a, front, elbow, K, th):
+        if gap_reaches(tm, p, a, front, elbow, K, th):
             t_in = tm
         else:
             t_out = tm

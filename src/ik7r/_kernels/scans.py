@@ -83,7 +83,9 @@ from .gaps import (
     fold_short_min,
     gap,
     gap_min,
+    gap_reaches,
     gap_root,
+    reach_excess,
     shoulder_gap,
     tiny_piece,
 )
@@ -171,7 +173,9 @@ def _fold_splits(ta, tb, cells, front, p, a, R07, Td, K, hint, has_hint, out, co
     * where a least shortfall is above zero but within FOLD_REACH_DIP of the size, the least
       over its two cells (Brent), kept with the least of the grid for :func:`_fold_beyond_reach`
       (``ws[W_LEAST]``: the least and its sw, per shoulder branch); below zero, the island of
-      reach is a piece too.
+      reach is a piece too. A neighbour across a meeting of the branches is no neighbour (the
+      shortfall jumps there): the dip is sought in the other cell alone (an exact 45 deg
+      member: an island 1.6e-3 wide in sw beside a meeting, the source at its end).
 
     Returns (count, the number of pieces)."""
     row = _short_row(front)
@@ -215,7 +219,13 @@ def _fold_splits(ta, tb, cells, front, p, a, R07, Td, K, hint, has_hint, out, co
                     if e1 == e0:
                         break
         elif 0.0 < s < math.inf:
-            if s < near and s <= lo and s <= hi and lo > 0.0 and hi > 0.0:
+            # (a cell where the shoulder branches meet is no neighbour: the shortfall jumps
+            # there; the dip is sought in the cell on the other side alone, as at an end)
+            if t_lo < m1 < t or t_lo < m2 < t:
+                lo, t_lo = s, t
+            if t < m1 < t_hi or t < m2 < t_hi:
+                hi, t_hi = s, t
+            if s < near and s <= lo and s <= hi and lo > 0.0 and hi > 0.0 and t_lo < t_hi:
                 t, s = fold_short_min(t_lo, t_hi, p, a, 0.5 * front, K)
                 if s <= 0.0 and n < FOLD_SPLIT_PIECES:  # (an island: its piece)
                     split[2 * n] = branch_end(t, t_lo, p, a, front, 1.0, K, th)
@@ -253,7 +263,9 @@ def gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
     on the exact model (its partner: :func:`partners`). Next to an end of the branch (the elbow
     stretched), a grid point below GAP_NEAR_END whose ``|gap|`` falls toward the end has no
     defined neighbour there: the end is bisected for (:func:`branch_end`) and the part between it
-    and the point minimised the same way. Sign changes are the polynomial's."""
+    and the point minimised the same way; a branch's islands that hold no more than one grid
+    point are found from its elbow's reach (:func:`_islands`). Sign changes are the
+    polynomial's."""
     m = GAP_NEAR_CELLS
     gs = ws[W_SCAN:W_SCAN + m + 1]
     th = ws[W_TH:W_TH + NTH]
@@ -261,6 +273,7 @@ def gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
     if u_fold(K) < FOLD_NEAR:  # (the fold span is the fold gap's: see :func:`scan_fold`)
         top = theta5_cs_of_u(u_fold(K) + FOLD_SPAN, K)[0]
     for front in (1.0, -1.0):
+        count = _islands(top, p, a, front, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
         for elbow in (1.0, -1.0):
             for i in range(m + 1):
                 g, ok = bend_gap(top * i / m, p, a, front, elbow, K, th)
@@ -299,6 +312,51 @@ def gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
                 if okm and fm < GAP_NEAR_DEPTH and gm * g1 > 0.0:
                     count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint, has_hint, out,
                                            count, filt, ws, mats)
+    return count
+
+
+@njit
+def _islands(top, p, a, front, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """The near misses of :func:`gap_near_misses` on the islands of the shoulder branch
+    ``front`` (+-1) that its grid does not see: stretches of theta5 where the elbow reaches with
+    no more than one grid point in them, between points where it does not (seen: [1.157, 1.215]
+    against cells of 0.26 rad, with the deviating model's solutions at its end, the elbow
+    stretched). One grid point that reaches between two that do not, and a grid minimum of the
+    elbow's excess beyond its reach (:func:`reach_excess`, smooth) between two more that dips
+    inside the reach (Brent's minimiser, stopped at the first point inside), are bisected for
+    the island's ends (:func:`branch_end`); each half of the island, each elbow, is then
+    minimised for ``|gap|`` as a grid point beside a branch end is, and a minimum below
+    GAP_NEAR_DEPTH is a candidate. (An island within one cell whose excess keeps falling to a
+    grid point beyond is not seen; neither is one the lateral offset's cylinder alone makes.)"""
+    m = GAP_NEAR_CELLS
+    es = ws[W_SCAN + m + 1:W_SCAN + 2 * m + 2]  # (the first m + 1: the gaps' grid)
+    th = ws[W_TH:W_TH + NTH]
+    for i in range(m + 1):
+        es[i] = reach_excess(top * i / m, p, a, front, K)
+    for i in range(m + 1):
+        # (at an end of the range the one neighbour is taken twice, as in gap_near_misses)
+        j0, j2 = max(i - 1, 1 - i), min(i + 1, 2 * m - 1 - i)
+        e0, e1, e2 = es[j0], es[i], es[j2]
+        if not (e0 > 0.0 and e2 > 0.0):
+            continue
+        t0, t1 = top * max(i - 1, 0) / m, top * min(i + 1, m) / m
+        ti = top * i / m
+        if e1 > 0.0:
+            if not (e1 <= e0 and e1 <= e2 and math.isfinite(e1)):
+                continue
+            # (the first point inside the reach, else the least excess: not reached below)
+            ti = gap_min(t0, t1, p, a, 4.0 * front, 1.0, K, th, 0.0, 1.0)[0]
+        if not gap_reaches(ti, p, a, front, 1.0, K, th):
+            continue
+        lo = 0.0 if i == 0 and e1 <= 0.0 else branch_end(ti, t0, p, a, front, 1.0, K, th)
+        hi = top if i == m and e1 <= 0.0 else branch_end(ti, t1, p, a, front, 1.0, K, th)
+        mid = 0.5 * (lo + hi)
+        for elbow in (1.0, -1.0):
+            for ta, tb in ((lo, mid), (mid, hi)):
+                tm, fm, _, okm = gap_min(ta, tb, p, a, front, elbow, K, th)
+                if okm and fm < GAP_NEAR_DEPTH:
+                    count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint, has_hint,
+                                           out, count, filt, ws, mats)
     return count
 
 
