@@ -35,6 +35,7 @@ from .constants import (
     MERGE_WINDOW,
     SHOULDER_NEAR,
     SINGULAR_ALONE,
+    SNAP_ROUNDING,
     STALL_PATIENCE,
     START_REACH,
     STRAIGHT_EXACT,
@@ -465,7 +466,8 @@ def accept(q, Td, K, out, count, mats, snap=False, follow=True):
         if K[L.DEVIATION] > 0.0:
             outcome = _MISSED if snap else _polish_deviating(q, dp, Td, K, follow, mats)
         else:
-            outcome = _polish_exact(q, Td, K, out, count, snap)
+            outcome = _polish_exact(q, Td, K, out, count, snap,
+                                    max(dp / K[L.POS_TOL], dr / K[L.ROT_TOL]) <= SNAP_ROUNDING)
         if outcome != _LANDED:
             return count, outcome == _KNOWN
     if K[L.DEVIATION] > 0.0:
@@ -504,16 +506,26 @@ def _polish_deviating(q, dp, Td, K, follow, mats):
 
 
 @njit
-def _polish_exact(q, Td, K, out, count, snap):
+def _polish_exact(q, Td, K, out, count, snap, rounding=False):
     """Polish the candidate ``q`` on an exact family member, in place; returns _MISSED, _LANDED
     or _KNOWN (see :func:`accept`). Within DUP_TOL of a solution in ``out[:count]`` it is that
     solution (:func:`_known`), else Newton polishes it: by damped steps on the shoulder set when
-    no solution found is within SINGULAR_ALONE (:func:`on_shoulder_set`; not a snap)."""
+    no solution found is within SINGULAR_ALONE (:func:`on_shoulder_set`; not a snap). A snap to
+    the fully bent wrist that Newton cannot polish and that misses the pose only by rounding
+    (``rounding``: within SNAP_ROUNDING times the tolerances) is polished with joint 5 held."""
     if _known(q, out, count, DUP_TOL):
         return _KNOWN  # the solution it would polish to is there (see _known)
     damped = (not snap and (on_shoulder_set(q, K) or _elbow_stretched(q, K))
               and not _known(q, out, count, SINGULAR_ALONE))
-    return _LANDED if polish(q, Td, K, 8, damped) else _MISSED
+    if polish(q, Td, K, 8, damped):
+        return _LANDED
+    if snap and rounding and math.pi - bend(q, K) < STRAIGHT_EXACT:
+        # the fully bent wrist, where Newton's step is not defined: the other joints by damped
+        # steps, joint 5 held (an exact member: the arm's rounding left a snap 1.3e-9 mm off at
+        # a tolerance of 1e-9, 1e-12 rad from its source; a snap farther off may be a point of
+        # the fold's flat valley, whose held polish travels to another point of it)
+        return _LANDED if polish(q, Td, K, 8, True, 0, 0.0, ALL_JOINTS & ~(1 << 4)) else _MISSED
+    return _MISSED
 
 
 @njit

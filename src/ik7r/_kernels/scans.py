@@ -173,9 +173,9 @@ def _fold_splits(ta, tb, cells, front, p, a, R07, Td, K, hint, has_hint, out, co
     * where a least shortfall is above zero but within FOLD_REACH_DIP of the size, the least
       over its two cells (Brent), kept with the least of the grid for :func:`_fold_beyond_reach`
       (``ws[W_LEAST]``: the least and its sw, per shoulder branch); below zero, the island of
-      reach is a piece too. A neighbour across a meeting of the branches is no neighbour (the
-      shortfall jumps there): the dip is sought in the other cell alone (an exact 45 deg
-      member: an island 1.6e-3 wide in sw beside a meeting, the source at its end).
+      reach is a piece too. A neighbour across a meeting of the branches is not compared (the
+      shortfall jumps there), and its cell is searched up to the meeting (an exact 45 deg
+      member: an island 1.6e-3 wide in sw in the cell before one, the source at its end).
 
     Returns (count, the number of pieces)."""
     row = _short_row(front)
@@ -219,13 +219,14 @@ def _fold_splits(ta, tb, cells, front, p, a, R07, Td, K, hint, has_hint, out, co
                     if e1 == e0:
                         break
         elif 0.0 < s < math.inf:
-            # (a cell where the shoulder branches meet is no neighbour: the shortfall jumps
-            # there; the dip is sought in the cell on the other side alone, as at an end)
-            if t_lo < m1 < t or t_lo < m2 < t:
-                lo, t_lo = s, t
-            if t < m1 < t_hi or t < m2 < t_hi:
-                hi, t_hi = s, t
-            if s < near and s <= lo and s <= hi and lo > 0.0 and hi > 0.0 and t_lo < t_hi:
+            # (where the shoulder branches meet in a neighbouring cell the shortfall jumps: that
+            # neighbour is not compared, and its cell is searched up to the meeting)
+            for mm in (m1, m2):
+                if t_lo < mm < t:
+                    lo, t_lo = s, mm
+                if t < mm < t_hi:
+                    hi, t_hi = s, mm
+            if s < near and s <= lo and s <= hi and lo > 0.0 and hi > 0.0:
                 t, s = fold_short_min(t_lo, t_hi, p, a, 0.5 * front, K)
                 if s <= 0.0 and n < FOLD_SPLIT_PIECES:  # (an island: its piece)
                     split[2 * n] = branch_end(t, t_lo, p, a, front, 1.0, K, th)
