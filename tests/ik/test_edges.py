@@ -562,7 +562,22 @@ def test_exact_member_with_the_elbow_stretched_and_the_wrist_nearly_straight():
             assert any(least_error_path_meets(robot, T, x, sols[k], steps=80) for k in np.argsort(d)), x
 
 
-def test_exact_45_deg_member_on_the_shoulder_set_beside_the_fold():
+_SHOULDER_SET_45 = [  # exact 45 deg members without lateral offset: DH, source, reference count
+    ([[0.0, 0.0, 360.0, 0.0], [298.0, -np.pi / 2, 0.0, 0.0], [751.0, 0.0, 0.0, 0.0],
+      [36.0, np.pi / 2, 937.0, 0.0], [0.0, -np.pi / 4, 99.0, 0.0],
+      [0.0, np.pi / 2, 99.0, 0.0], [0.0, -np.pi / 4, 97.0, 0.0]],
+     [1.9194489152470418, -0.9187831916893865, 0.8850465944819286, 1.4985532538034052,
+      -3.0299140341138955, -0.5137361095003516], 8),
+    ([[0.0, 0.0, 900.0, 0.0], [19.0, -np.pi / 2, 0.0, 0.0], [1063.0, 0.0, 0.0, 0.0],
+      [62.0, np.pi / 2, 1147.0, 0.0], [0.0, -np.pi / 4, 93.0, 0.0],
+      [0.0, np.pi / 2, 93.0, 0.0], [0.0, -np.pi / 4, 86.0, 0.0]],
+     [2.6623626250191226, 3.0932994400922764, -0.24628449359318116, 1.7839625817304308,
+      2.8251511357906347, -2.501775160630456], 14),
+]
+
+
+@pytest.mark.parametrize(("dh", "q", "n"), _SHOULDER_SET_45)
+def test_exact_45_deg_member_on_the_shoulder_set_beside_the_fold(dh, q, n):
     """An exact 45 deg member without lateral offset (integer lengths), the virtual wrist centre
     on axis 1 and the wrist 0.11 rad from fully bent (a random-member hunt, seed 6: 1 of its 300
     shoulder-set poses). The reference finds 8 solutions: a cluster in q1 at c - 1.5e-3, c and
@@ -572,14 +587,17 @@ def test_exact_45_deg_member_on_the_shoulder_set_beside_the_fold():
     with 1.7e-7 between them, inside one cell of the scan's grid, and the least |gap| of that dip
     is either root; where it was the one whose side of the gap has the grid's sign, no sign
     change showed and the partner was never looked for. A dip whose bottom is a root is now
-    searched for the signed gap's extremum as well (``gaps.gap_min(toward=...)``)."""
-    dh = np.array([[0.0, 0.0, 360.0, 0.0], [298.0, -np.pi / 2, 0.0, 0.0], [751.0, 0.0, 0.0, 0.0],
-                   [36.0, np.pi / 2, 937.0, 0.0], [0.0, -np.pi / 4, 99.0, 0.0],
-                   [0.0, np.pi / 2, 99.0, 0.0], [0.0, -np.pi / 4, 97.0, 0.0]])
-    robot = ik7r.robot.Robot(name="member", dh=dh)
+    searched for the signed gap's extremum as well (``gaps.gap_min(toward=...)``).
+
+    The second (a later hunt, seed 66: the wrist 0.32 rad from fully bent, three solutions at
+    q1 = 2.6588, 2.6606 and 2.6624, each with both wrists; ``ik_all`` found 12 of 14, not the
+    source) is the other side: the dip's bottom was the first root with a sign of its rounding
+    (+2.8e-13) against the grid's, so the dip was split there, and the far side's bracket
+    closed on the same root again. A split bottom that is a root is now searched for the
+    extremum too."""
+    robot = ik7r.robot.Robot(name="member", dh=np.array(dh))
     assert robot.family.deviation == 0.0
-    q = np.array([1.9194489152470418, -0.9187831916893865, 0.8850465944819286, 1.4985532538034052,
-                  -3.0299140341138955, -0.5137361095003516])
+    q = np.array(q)
     T = robot.fk(q)
     sols = robot.ik_all(T)
     dp, dr = pose_errors(robot.fk(sols), T)
@@ -588,4 +606,4 @@ def test_exact_45_deg_member_on_the_shoulder_set_beside_the_fold():
     ref = list(reference_ik(robot, T))
     for x in [q] + ref:
         assert among(robot, sols, x, T), x
-    assert len(ref) == 8 and len(sols) == len(ref)  # (and none twice)
+    assert len(ref) == n and len(sols) == len(ref)  # (and none twice)

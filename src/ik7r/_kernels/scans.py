@@ -438,17 +438,21 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
                                        DIP_FLOOR if front != 0.0 and front != 3.0 else 0.0)
             nest = SCAN_NEST_FOLD_AXIS if front == 3.0 else SCAN_NEST
             nests = fm < near and 2 * npieces < len(sub) and t_hi - t_lo >= nest * (sub[1] - sub[0])
-            if okm and gm * gi < 0.0:
+            split = okm and gm * gi < 0.0
+            if split:
                 for t_end, g_end in ((t_lo, gs[lo_i]), (t_hi, gs[hi_i])):
                     if math.isfinite(g_end) and g_end * gm < 0.0:
                         count = _root_between(t_end, g_end, tm, gm, p, a, front, elbow, R07, Td,
                                               K, hint, has_hint, out, count, filt, ws, mats)
-            elif okm and fm < SCAN_NEAR and not nests:
+            if okm and fm < SCAN_NEAR and (split or not nests):
                 # the bottom is a root, but the gap has the grid's sign on either side of it: it
                 # has a partner in these cells, which no finer grid will scan, unless it is a
                 # tangency (a shoulder-set pair 3e-3 rad apart with 1.7e-7 between them, where
                 # the least |gap| was the one whose side has the grid's sign). Past the signed
-                # gap's extremum, the side away from this root holds the partner.
+                # gap's extremum, the side away from this root holds the partner. Where the
+                # split above ran, the bottom's sign was its rounding's, and the far side's
+                # bracket may have closed on this root again (an exact 45 deg member's
+                # shoulder-set pair 3.6e-3 apart lost its second so, on every grid): the same.
                 tx, _, gx, okx = gap_min(t_lo, t_hi, p, a, front, elbow, K, th, 0.0,
                                          1.0 if gi > 0.0 else -1.0)
                 t_end, g_end = (t_hi, gs[hi_i]) if tm < tx else (t_lo, gs[lo_i])
