@@ -1,0 +1,79 @@
+"""The random-member hunt of issue 12: sources that ``ik_all`` misses on random family members.
+
+Public API and the tests' independent reference only. For a seed, draws MEMBERS random members
+(``reference_ik.family_member(rounded=True)``: lengths to 1 mm and angles to 0.01 deg as a
+datasheet gives them, which leaves most members deviating from the idealised family; a third
+of them at the 45 deg twist unless ``--beta``, half with lateral offsets unless ``--lateral``),
+then for each POSES joint vectors of each kind (uniform, and ``reference_ik.singular_joints``'s singular
+sets; the shoulder set only without lateral offset), makes the poses by forward kinematics and
+checks each source among the answers (``reference_ik.among``, 1e-6 rad). A source not among
+them is printed on one line (``m`` when no answer is within DUP_TOL = 1e-5 rad in every joint,
+a miss; ``d`` when one is, one solution by the solver's documented rule) with its member's DH
+table and its joints, ready to be made a test. The count of misses ends the output.
+
+Run: ``python benchmarks/hunt.py SEED [MEMBERS] [POSES] [--kinds k1,k2] [--lateral]
+[--beta mix|random|DEG]`` (docs/guide/edges.md has the counts of earlier hunts: the all-kinds
+hunt is the defaults; the stretched-elbow one ``--kinds stretched --lateral --beta random``
+with 100 members and 400 poses).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ik7r.robot import Robot
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from reference_ik import KINDS, among, family_member, singular_joints  # noqa: E402
+
+#: Two answers closer than this (rad, every joint) are one solution (the solver's DUP_TOL).
+DUP_TOL = 1e-5
+
+
+def _wrap(x):
+    return np.pi - np.mod(np.pi - np.asarray(x), 2 * np.pi)
+
+
+def main(argv: list[str]) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("seed", type=int)
+    ap.add_argument("members", type=int, nargs="?", default=40)
+    ap.add_argument("poses", type=int, nargs="?", default=300)
+    ap.add_argument("--kinds", default=",".join(("uniform",) + KINDS))
+    ap.add_argument("--lateral", action="store_true", help="every member with lateral offsets")
+    ap.add_argument("--beta", default="mix",
+                    help="'mix' (a third at 45 deg), 'random' (15 .. 45 deg) or a twist in deg")
+    args = ap.parse_args(argv)
+    rng = np.random.default_rng(args.seed)
+    missed = 0
+    for m in range(args.members):
+        lateral = True if args.lateral else bool(rng.integers(0, 2))
+        beta = {"mix": 45.0 if m % 3 == 0 else None, "random": None}.get(args.beta)
+        beta = float(args.beta) if args.beta not in ("mix", "random") else beta
+        dh = family_member(rng, beta_deg=beta, lateral=lateral, rounded=True)
+        robot = Robot(name=f"member{m}", dh=dh)
+        for kind in args.kinds.split(","):
+            if kind in ("shoulder", "near_shoulder") and lateral:
+                continue
+            Q = (rng.uniform(-np.pi, np.pi, (args.poses, 6)) if kind == "uniform"
+                 else singular_joints(robot, rng, kind, args.poses))
+            T = robot.fk(Q)
+            S, V = robot.ik_all_batch(T)
+            for i in range(len(Q)):
+                sols = S[i][V[i]]
+                if among(robot, sols, Q[i], T[i], tol=1e-6):
+                    continue
+                near = np.abs(_wrap(sols - Q[i])).max(axis=1).min() if len(sols) else np.inf
+                missed += bool(near > DUP_TOL)
+                print(f"{'m' if near > DUP_TOL else 'd'} near={near:.2e} seed={args.seed} member={m} "
+                      f"kind={kind} answers={len(sols)} dh={dh.tolist()} q={Q[i].tolist()}", flush=True)
+    print(f"seed {args.seed}: {missed} sources missed")
+    return 1 if missed else 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main(sys.argv[1:]))
