@@ -573,6 +573,11 @@ _SHOULDER_SET_45 = [  # exact 45 deg members without lateral offset: DH, source,
       [0.0, np.pi / 2, 93.0, 0.0], [0.0, -np.pi / 4, 86.0, 0.0]],
      [2.6623626250191226, 3.0932994400922764, -0.24628449359318116, 1.7839625817304308,
       2.8251511357906347, -2.501775160630456], 14),
+    ([[0.0, 0.0, 146.0, 0.0], [75.0, np.pi / 2, 0.0, 0.0], [1340.0, 0.0, 0.0, 0.0],
+      [159.0, np.pi / 2, 826.0, 0.0], [0.0, -np.pi / 4, 82.0, 0.0],
+      [0.0, np.pi / 2, 82.0, 0.0], [0.0, -np.pi / 4, 55.0, 0.0]],
+     [3.133470188900276, 2.9286697921985585, 0.1893704270035288, 1.542434951087336,
+      -3.078537952943802, -2.009884270947129], 14),
 ]
 
 
@@ -594,7 +599,13 @@ def test_exact_45_deg_member_on_the_shoulder_set_beside_the_fold(dh, q, n):
     source) is the other side: the dip's bottom was the first root with a sign of its rounding
     (+2.8e-13) against the grid's, so the dip was split there, and the far side's bracket
     closed on the same root again. A split bottom that is a root is now searched for the
-    extremum too."""
+    extremum too.
+
+    The third (seed 85, the wrist 0.063 rad from fully bent: q1 = 3.1305, 3.1320, 3.1335) lies
+    in the grid's last cell, where the shoulder branch the gap takes switches (the virtual
+    centre crosses axis 1) and the gap jumps from -0.043 to -1e-6: Brent's minimiser took the
+    plateau for the cell. A cell of the first grid that holds a switch is now scanned as two
+    pieces, one each side of it."""
     robot = ik7r.robot.Robot(name="member", dh=np.array(dh))
     assert robot.family.deviation == 0.0
     q = np.array(q)

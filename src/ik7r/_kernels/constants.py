@@ -130,6 +130,12 @@ DIP_FLOOR = 0.2
 #: The theta1 scan runs where the line of virtual centres passes this close (relative to the
 #: robot's size) to axis 1.
 SHOULDER_NEAR = 1e-5
+#: ... and a cell of its first grid where the gap's shoulder branch switches (the gap jumps) is
+#: scanned as two pieces, one each side of the switch, where the gap at one of the cell's ends
+#: is within this (rad) of zero (seen: -1.2e-5 beside a pair of solutions 3e-3 apart; a switch
+#: lies in nearly every pose's turn, and splitting each cost the exact members' near-shoulder
+#: rows twice their time)
+SHOULDER_SWITCH_NEAR = 1e-3
 #: ... and this for a model that deviates from the idealised one (near the set its solutions come
 #: in clusters the idealised roots do not have: the nominal gap's dips are candidates there),
 #: relative to the larger of the size and the line's d there (:func:`shoulder_offset`; this and

@@ -113,6 +113,33 @@ def _shoulder_bend(t1, p, a, K):
 
 
 @njit
+def shoulder_side(t1, p, a, K):
+    """The shoulder branch :func:`shoulder_gap` takes at theta1 = ``t1`` (the side of axis 1 the
+    virtual centre is on, +-1) and whether it is defined there: (front, ok). It switches where
+    the arm's plane meets the line of virtual centres on axis 1, and the gap jumps there."""
+    _, front, ok = _shoulder_bend(t1, p, a, K)
+    return front, ok
+
+
+@njit
+def shoulder_switch(t_in, t_out, p, a, K):
+    """The point between ``t_in`` and ``t_out`` (in either order) where the shoulder branch of
+    :func:`shoulder_side` changes from the one at ``t_in``: bisection to the last bit; returns
+    the last point found on ``t_in``'s side."""
+    side = shoulder_side(t_in, p, a, K)[0]
+    for _ in range(60):
+        tm = 0.5 * (t_in + t_out)
+        if tm == t_in or tm == t_out:
+            break
+        front, ok = shoulder_side(tm, p, a, K)
+        if ok and front == side:
+            t_in = tm
+        else:
+            t_out = tm
+    return t_in
+
+
+@njit
 def gap_reaches(t, p, a, front, elbow, K, th):
     """Whether the arm branch of :func:`gap` reaches at ``t`` (its ``ok``, the same to the last
     bit), at a fraction of its cost for the bend gaps (no angle of the arm, no gap): the

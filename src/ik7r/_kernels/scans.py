@@ -54,6 +54,7 @@ from .constants import (
     SHOULDER_NEAR,
     SHOULDER_REACH,
     SHOULDER_SCAN_DEVIATING,
+    SHOULDER_SWITCH_NEAR,
     SHOULDER_TURN_BEND,
     SHOULDER_TURN_SLACK,
     TWO_PI,
@@ -87,6 +88,8 @@ from .gaps import (
     gap_root,
     reach_excess,
     shoulder_gap,
+    shoulder_side,
+    shoulder_switch,
     tiny_piece,
 )
 from .jit import njit
@@ -394,9 +397,26 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
         else:
             g, ok = gap(ta + (tb - ta) * i / m, p, a, front, elbow, K, th)
             gs[i] = g if ok else np.nan
+    first = ta == sub[0] and tb == sub[1]
     for i in range(m + 1):
         gi = gs[i]
         ti = ta + (tb - ta) * i / m
+        if front == 0.0 and first and i > 0:
+            # the shoulder gap jumps where its shoulder branch switches (the virtual centre
+            # crosses axis 1): a cell that holds a switch, with the gap near zero at one of
+            # its ends, is scanned as two pieces, one each side (an exact 45 deg member's pair
+            # 3e-3 apart beside one, on a plateau of the other branch's gap that Brent's
+            # minimiser took for the whole cell)
+            if (2 * npieces + 2 <= len(sub)
+                    and (abs(gi) < SHOULDER_SWITCH_NEAR or abs(gs[i - 1]) < SHOULDER_SWITCH_NEAR)):
+                t_prev = ta + (tb - ta) * (i - 1) / m
+                s0, ok0 = shoulder_side(t_prev, p, a, K)
+                s1, ok1 = shoulder_side(ti, p, a, K)
+                if ok0 and ok1 and s0 != s1:
+                    t_sw = shoulder_switch(t_prev, ti, p, a, K)
+                    sub[2 * npieces], sub[2 * npieces + 1] = t_prev, t_sw
+                    sub[2 * npieces + 2], sub[2 * npieces + 3] = t_sw, ti
+                    npieces += 2
         if i < m and math.isfinite(gi) != math.isfinite(gs[i + 1]) and 2 * npieces < len(sub):
             # the branch ends in this cell: bisect for the end, then scan the defined part
             t_in = branch_end(ti if math.isfinite(gi) else ta + (tb - ta) * (i + 1) / m,
