@@ -574,6 +574,12 @@ def singular_joints(robot, rng, kind, n):
     return np.array([ch.joints(t) for t in th])
 
 
+def answered_twice(robot, sols, T):
+    """Pairs (i, j) of answers ``sols`` of the pose ``T`` that are one solution: the later among
+    the earlier by :func:`among`."""
+    return [(i, j) for i in range(len(sols)) for j in range(i) if among(robot, sols[j:j + 1], sols[i], T)]
+
+
 def among(robot, sols, q, T, tol=1e-6, reach=1e-2):
     """Whether joints ``q`` (a solution of the pose ``T``) are one solution with an answer of
     ``sols`` (M, 6). Every joint counts; only a path of poses met within the tolerance joins two

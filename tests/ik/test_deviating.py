@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 from helpers import wrap
-from reference_ik import among, least_error_path_meets, reference_ik, singular_joints
+from reference_ik import among, answered_twice, least_error_path_meets, reference_ik, singular_joints
 from scipy.optimize import least_squares
 
 import ik7r
@@ -21,12 +21,6 @@ from ik7r.robot import Robot
 
 #: A source counts as found when an answer is this close (rad, every compared joint).
 SOURCE_TOL = 1e-6
-
-
-def answered_twice(robot, sols, T):
-    """Pairs (i, j) of answers ``sols`` of the pose ``T`` that are one solution: the later among
-    the earlier by the tests' rule (``reference_ik.among``)."""
-    return [(i, j) for i in range(len(sols)) for j in range(i) if among(robot, sols[j:j + 1], sols[i], T)]
 
 
 def assert_complete_once(robot, q, at_least):

@@ -198,6 +198,8 @@ GAP_NEAR_DEPTH = 0.03
 #: within 1.4e-7 in theta5 at a branch's end whose gap the grid never saw change sign
 FOLD_END_NEAR = 0.2
 GAP_NEAR_CELLS = 12
+#: (its gaps' grid and the islands' excess grid share the work block of SCAN_GRID + 1 values)
+assert 2 * (GAP_NEAR_CELLS + 1) <= SCAN_GRID + 1
 #: ... and a grid point beside an arm branch's end (the elbow stretched) whose |gap| falls toward
 #: the end is refined up to the end when below this (rad): beside the stretch the gap is steep,
 #: and on the rounded 45 deg robot a grid point 0.0512 there had a near miss of 3.6e-3 at the end
