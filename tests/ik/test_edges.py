@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 from helpers import dh_product, pose_errors, source_distance, wrap
-from reference_ik import among, least_error_path_meets, reference_ik
+from reference_ik import among, answered_twice, least_error_path_meets, reference_ik
 
 import ik7r
 
@@ -618,3 +618,33 @@ def test_exact_45_deg_member_on_the_shoulder_set_beside_the_fold(dh, q, n):
     for x in [q] + ref:
         assert among(robot, sols, x, T), x
     assert len(ref) == n and len(sols) == len(ref)  # (and none twice)
+
+
+def test_valley_of_the_shoulder_set_longer_than_the_merge_window():
+    """An exact 45 deg member without lateral offset, the virtual wrist centre on axis 1 and the
+    wrist 1.6e-3 rad from straight (a random-member hunt, seed 87, member 18). Near both singular
+    sets at once the pose is met within the tolerance along a valley 0.17 rad long in q4 and q7
+    (q1 moving 5e-4 rad with them): its least pose error peaks at 2.5e-11 mm, computed at 40
+    digits, and it holds three exact roots. The polynomial's roots and the scans landed on 16
+    points of each of its two wrists, and ``ik_all`` raised the MAX_SOLUTIONS RuntimeError. Two
+    answers within MERGE_WINDOW of each other on the shoulder set are now one solution when a
+    walk between them stays exact (the curved valley leaves the straight segment). Every answer
+    is exact, the source is among them, no two are one solution by the reference's rule, and
+    every exact point the reference finds lies on a path of least pose error to an answer."""
+    dh = np.array([[0.0, 0.0, 37.0, 0.0], [24.0, -np.pi / 2, 0.0, 0.0], [907.0, 0.0, 0.0, 0.0],
+                   [22.0, np.pi / 2, 781.0, 0.0], [0.0, -np.pi / 4, 106.0, 0.0],
+                   [0.0, np.pi / 2, 106.0, 0.0], [0.0, -np.pi / 4, 150.0, 0.0]])
+    robot = ik7r.robot.Robot(name="member", dh=dh)
+    assert robot.family.deviation == 0.0
+    q = np.array([1.3020028918242152, 2.4218148593845052, -0.18241839240637558,
+                  -0.08485637660510159, 0.001611734734506598, 0.4347874079685021])
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    dp, dr = pose_errors(robot.fk(sols), T)
+    assert dp.max() <= robot.position_tolerance + 1e-12
+    assert dr.max() <= 2 * robot.rotation_tolerance + 1e-15
+    assert among(robot, sols, q, T)
+    assert answered_twice(robot, sols, T) == []
+    for x in reference_ik(robot, T):
+        d = np.abs(wrap(sols - x)).max(axis=1)
+        assert any(least_error_path_meets(robot, T, x, sols[k], steps=80) for k in np.argsort(d)[:3]), x

@@ -111,7 +111,9 @@ def straight_damped(qq, Td, K, hint, has_hint, mats):
 def add_answer(q, out, count, Td, K, mats):
     """Append ``q`` (wrapped) to ``out[:count]`` unless it is already there: within DUP_TOL of
     a solution in every joint, or within MERGE_WINDOW and joined to it by a segment that is
-    exact all along (:func:`_joined`): where the FK is flat (a
+    exact all along (:func:`_joined`), or, both on the shoulder set, by a walk of VALLEY_WALK
+    points (:func:`walked`; there, with the wrist nearly straight too, the valley curves away
+    from the segment and may be longer than MERGE_WINDOW): where the FK is flat (a
     nearly singular arm and wrist at once) exact solutions come as clusters of shadows wider
     than DUP_TOL, while two distinct solutions have an inexact pose between them. An exactly
     straight ``q`` takes the place of a nearly straight solution it is one with, and the other
@@ -153,6 +155,8 @@ def _insert(q, out, count, Td, K, mats, shoulder):
             mid = out[count] if count < out.shape[0] else mats[MAT_WR].reshape(16)[:6]
             if _joined(out[k], q, mid, Td, K, mats):
                 return count
+            if shoulder and on_shoulder_set(out[k], K) and walked(out[k], q, Td, K, mats, VALLEY_WALK):
+                return count  # (one valley of the shoulder set: see MERGE_WINDOW)
         if (shoulder and far < CONTINUUM_WINDOW and mats[MAT_CW].reshape(16)[CW_FOUND] != 0.0
                 and on_shoulder_set(out[k], K) and walked(out[k], q, Td, K, mats)):
             return count  # (beside a continuum: see CONTINUUM_WINDOW)

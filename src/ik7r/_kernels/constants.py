@@ -53,7 +53,11 @@ FOLD_SNAP = 0.5 * DUP_TOL
 #: A solution with theta5 within this (rad) of 0 is exactly straight: only s4 q4 + s7 q7 counts.
 STRAIGHT_EXACT = 1e-9
 #: Two exact solutions closer than this (rad, every joint) are one when the segment between
-#: them is exact too (see :func:`add_answer`).
+#: them is exact too, or, both on the shoulder set, a walk of VALLEY_WALK points (see
+#: :func:`add_answer`). Near the shoulder set and the straight wrist at once the pose may be met
+#: along a curved valley longer than this (an exact 45 deg member 1.6e-3 rad from straight: 0.17
+#: rad in q4 and q7, least error 2.5e-11 mm, three exact roots): its answers come at least this
+#: far apart, each one solution with its part of the valley.
 MERGE_WINDOW = 1e-2
 #: A solution on the shoulder set (its virtual wrist centre on axis 1) lies in a valley where
 #: the FK is flat in q1 (with the wrist nearly straight, also in q7): the polish stops at the
