@@ -620,31 +620,73 @@ def test_exact_45_deg_member_on_the_shoulder_set_beside_the_fold(dh, q, n):
     assert len(ref) == n and len(sols) == len(ref)  # (and none twice)
 
 
-def test_valley_of_the_shoulder_set_longer_than_the_merge_window():
-    """An exact 45 deg member without lateral offset, the virtual wrist centre on axis 1 and the
-    wrist 1.6e-3 rad from straight (a random-member hunt, seed 87, member 18). Near both singular
-    sets at once the pose is met within the tolerance along a valley 0.17 rad long in q4 and q7
-    (q1 moving 5e-4 rad with them): its least pose error peaks at 2.5e-11 mm, computed at 40
-    digits, and it holds three exact roots. The polynomial's roots and the scans landed on 16
-    points of each of its two wrists, and ``ik_all`` raised the MAX_SOLUTIONS RuntimeError. Two
-    answers within MERGE_WINDOW of each other on the shoulder set are now one solution when a
-    walk between them stays exact (the curved valley leaves the straight segment). Every answer
-    is exact, the source is among them, no two are one solution by the reference's rule, and
-    every exact point the reference finds lies on a path of least pose error to an answer."""
-    dh = np.array([[0.0, 0.0, 37.0, 0.0], [24.0, -np.pi / 2, 0.0, 0.0], [907.0, 0.0, 0.0, 0.0],
-                   [22.0, np.pi / 2, 781.0, 0.0], [0.0, -np.pi / 4, 106.0, 0.0],
-                   [0.0, np.pi / 2, 106.0, 0.0], [0.0, -np.pi / 4, 150.0, 0.0]])
+def test_exact_45_deg_member_near_the_shoulder_set_in_the_fold_span():
+    """An exact 45 deg member without lateral offset, the line of virtual centres 2.3e-4 of the
+    size from axis 1 where it comes closest, at a d within the fold scan's span, the wrist 0.37
+    rad from fully bent (a random-member hunt, seed 203, member 45). The reference finds 14
+    solutions, 7 arms each with both wrists, at theta5 from 2.702 to 2.771; one elbow branch of
+    one shoulder branch holds four of them within 0.034 in sw (the fold scan's variable), two in
+    one cell of its grid beside a third in the next. ``ik_all`` found 10, not the source's pair
+    (q1 = -1.5524) nor the one at q1 = -3.0014: the cell's ends have the gap's sign and the
+    next cell's sign change takes its lower end, so no dip was searched. The theta1 scan (1.4
+    rad between the two in q1) now runs where that line passes within SHOULDER_NEAR_FOLD of axis
+    1 with its closest point in the fold scan's span."""
+    dh = np.array([[0.0, 0.0, 23.0, 0.0], [218.0, np.pi / 2, 0.0, 0.0], [1007.0, 0.0, 0.0, 0.0],
+                   [76.0, np.pi / 2, 1215.0, 0.0], [0.0, -np.pi / 4, 79.0, 0.0],
+                   [0.0, np.pi / 2, 79.0, 0.0], [0.0, -np.pi / 4, 29.0, 0.0]])
     robot = ik7r.robot.Robot(name="member", dh=dh)
     assert robot.family.deviation == 0.0
-    q = np.array([1.3020028918242152, 2.4218148593845052, -0.18241839240637558,
-                  -0.08485637660510159, 0.001611734734506598, 0.4347874079685021])
+    q = np.array([-1.5524400915412677, 1.7105765823991461, 1.431842136371575, 0.08083437719585751,
+                  2.767264906330296, 1.931459896268671])
     T = robot.fk(q)
     sols = robot.ik_all(T)
     dp, dr = pose_errors(robot.fk(sols), T)
     assert dp.max() <= robot.position_tolerance + 1e-12
     assert dr.max() <= 2 * robot.rotation_tolerance + 1e-15
-    assert among(robot, sols, q, T)
+    ref = list(reference_ik(robot, T))
+    for x in [q] + ref:
+        assert among(robot, sols, x, T), x
+    assert len(ref) == 14 and len(sols) == len(ref)  # (and none twice)
+
+
+_SHOULDER_VALLEYS = [  # exact 45 deg members, the shoulder set and a nearly straight wrist: DH, source
+    ([[0.0, 0.0, 37.0, 0.0], [24.0, -np.pi / 2, 0.0, 0.0], [907.0, 0.0, 0.0, 0.0],
+      [22.0, np.pi / 2, 781.0, 0.0], [0.0, -np.pi / 4, 106.0, 0.0],
+      [0.0, np.pi / 2, 106.0, 0.0], [0.0, -np.pi / 4, 150.0, 0.0]],
+     [1.3020028918242152, 2.4218148593845052, -0.18241839240637558, -0.08485637660510159,
+      0.001611734734506598, 0.4347874079685021]),
+    ([[0.0, 0.0, 392.0, 0.0], [9.0, np.pi / 2, 0.0, 0.0], [893.0, 0.0, 0.0, 0.0],
+      [29.0, -np.pi / 2, 1330.0, 0.0], [0.0, -np.pi / 4, 94.0, 0.0],
+      [0.0, np.pi / 2, 94.0, 0.0], [0.0, -np.pi / 4, 90.0, 0.0]],
+     [1.9081557534978613, -1.331281580722787, -1.9483268119060995, 0.6621614055892633,
+      5.5678084854182686e-05, -2.2513306068222656]),
+]
+
+
+@pytest.mark.parametrize(("dh", "q"), _SHOULDER_VALLEYS)
+def test_valley_of_the_shoulder_set_longer_than_the_merge_window(dh, q):
+    """Exact 45 deg members without lateral offset, the virtual wrist centre on axis 1 and the
+    wrist nearly straight (random-member hunts: seed 87, member 18, the wrist 1.6e-3 rad from
+    straight; seed 204, member 41, 5.6e-5). Near both singular sets at once the pose is met
+    within the tolerance along valleys longer than MERGE_WINDOW: the first's is 0.17 rad long
+    in q4 and q7 (q1 moving 5e-4 rad with them), its least pose error peaks at 2.5e-11 mm,
+    computed at 40 digits, and it holds three exact roots. There the polynomial's roots and the
+    scans landed on 16 points of each of its two wrists, and ``ik_all`` raised the MAX_SOLUTIONS
+    RuntimeError. Two answers within MERGE_WINDOW of each other on the shoulder set are now one
+    solution when a walk between them stays exact (the curved valley leaves the straight
+    segment). Every answer is exact, no two are one solution by the reference's rule, and the
+    source and every exact point the reference finds lie on a path of least pose error to an
+    answer (the second's source 0.043 rad from its nearest answer: beyond ``among``'s reach,
+    in that answer's valley)."""
+    robot = ik7r.robot.Robot(name="member", dh=np.array(dh))
+    assert robot.family.deviation == 0.0
+    q = np.array(q)
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    dp, dr = pose_errors(robot.fk(sols), T)
+    assert dp.max() <= robot.position_tolerance + 1e-12
+    assert dr.max() <= 2 * robot.rotation_tolerance + 1e-15
     assert answered_twice(robot, sols, T) == []
-    for x in reference_ik(robot, T):
+    for x in [q] + list(reference_ik(robot, T)):
         d = np.abs(wrap(sols - x)).max(axis=1)
         assert any(least_error_path_meets(robot, T, x, sols[k], steps=80) for k in np.argsort(d)[:3]), x

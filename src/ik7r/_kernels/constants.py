@@ -134,6 +134,12 @@ DIP_FLOOR = 0.2
 #: The theta1 scan runs where the line of virtual centres passes this close (relative to the
 #: robot's size) to axis 1.
 SHOULDER_NEAR = 1e-5
+#: ... and this close on a (nearly) 45 deg twist where the line comes closest to axis 1 within
+#: the fold scan's span (FOLD_SPAN in u): there the roots crowd in theta5 as theta1 swings, and
+#: the fold scan's grid in sw, unlike the polynomial, has no cluster test (an exact member at
+#: 2.3e-4 of the size: two roots 1.8e-3 apart in sw within one of its cells, beside a third in
+#: the next, lost; in theta1 they are 1.4 rad apart)
+SHOULDER_NEAR_FOLD = 2e-3
 #: ... and a cell of its first grid where the gap's shoulder branch switches (the gap jumps) is
 #: scanned as two pieces, one each side of the switch, where the gap at one of the cell's ends
 #: is within this (rad) of zero (seen: -1.2e-5 beside a pair of solutions 3e-3 apart; a switch

@@ -52,6 +52,7 @@ from .constants import (
     SHOULDER_EXACT_FAR,
     SHOULDER_EXACT_NEAR,
     SHOULDER_NEAR,
+    SHOULDER_NEAR_FOLD,
     SHOULDER_REACH,
     SHOULDER_SCAN_DEVIATING,
     SHOULDER_SWITCH_NEAR,
@@ -501,7 +502,8 @@ def _scan_piece(ta, tb, sub, npieces, front, elbow, p, a, R07, Td, K, hint, has_
 def scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     """Near the shoulder singular set (no lateral offset; the line of virtual centres
     ``p - t a`` passes within SHOULDER_NEAR of the robot's size from axis 1, at a d in range;
-    on a deviating model within SHOULDER_SCAN_DEVIATING, see :func:`shoulder_offset`):
+    SHOULDER_NEAR_FOLD where that d lies in the fold scan's span; on a deviating model within
+    SHOULDER_SCAN_DEVIATING, see :func:`shoulder_offset`):
     every solution from the bend gap in theta1 (:func:`shoulder_gap`) on a grid over the whole
     turn, both elbow branches."""
     if K[L.B] != 0.0:
@@ -509,12 +511,15 @@ def scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     if a[0] * a[0] + a[1] * a[1] < 1e-24:
         return count  # a along axis 1: P' is at one distance from it for every d
     t, r = line_to_axis1(p, a)
+    d = t - K[L.D7]
     if K[L.DEVIATION] == 0.0:
-        if r > SHOULDER_NEAR * K[L.SCALE]:
+        near = SHOULDER_NEAR
+        if u_fold(K) < FOLD_NEAR and d > 0.0 and K[L.KW] < (u_fold(K) + FOLD_SPAN) * d:
+            near = SHOULDER_NEAR_FOLD  # (the closest approach in the fold scan's span)
+        if r > near * K[L.SCALE]:
             return count
     elif shoulder_offset(p, a, K) > SHOULDER_SCAN_DEVIATING:
         return count
-    d = t - K[L.D7]
     if not d_near_range(d, K):
         return count
     return _scan_turn(0.0, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
