@@ -395,6 +395,13 @@ _STRETCH_UNSEEN_BY_THE_GRID = [
       [0.0, -math.pi / 4, 170.0, 0.0]],
      [2.9164434851415955, 1.5281758971361574, -1.5808180591808023,
       0.25905261327430207, 2.7799888554450227, -1.60575648565481]),
+    # (an exact 45 deg hunt, seed 205: an island 5.9e-4 wide in sw holds the last grid point
+    # before the shoulder branch's end, the hole before it unseen, the source at its start)
+    ([[0.0, 0.0, 62.0, 0.0], [23.0, math.pi / 2, -19.0, 0.0], [1297.0, 0.0, -125.0, 0.0],
+      [110.0, math.pi / 2, 1386.0, 0.0], [0.0, -math.pi / 4, 98.0, 0.0], [0.0, math.pi / 2, 98.0, 0.0],
+      [0.0, -math.pi / 4, 173.0, 0.0]],
+     [-0.9773831053532014, -1.5711132685274238, -1.577867051076634,
+      -0.2016748691517649, -3.001620307738639, -0.27002944275568863]),
 ]
 
 
@@ -411,6 +418,10 @@ def test_stretched_elbow_between_grid_points_beside_the_fold(dh, q):
     between two grid points whose shortfalls fall toward a meeting in the next cell, where the
     shortfall jumps: that neighbour is now not compared, and its cell is searched up to the
     meeting. The sixth (the source just before a meeting, in its cell) guards that search.
+    The seventh (0 of 4) is an island of reach holding the last grid point before the shoulder
+    branch ends (its next grid point has no arm at all), the hole before it in the cell
+    between two grid points that reach: the greatest shortfall is now searched in the cell
+    toward the other neighbour when one neighbour does not reach.
     Every reference solution must be an answer, the source among them, and every answer
     exact."""
     from reference_ik import among, reference_ik

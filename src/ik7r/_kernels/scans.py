@@ -168,7 +168,10 @@ def _fold_splits(ta, tb, cells, front, p, a, R07, Td, K, hint, has_hint, out, co
       next grid point (an exact 45 deg member with a 169 mm lateral offset: for 8e-6 in sw, the
       source there), or hold a piece between the point and a grid point where it reaches;
     * where the least-reaching grid point's shortfall is within FOLD_REACH_DIP of the size of
-      zero, the greatest shortfall over its two cells (Brent): above zero, the branch has a
+      zero, the greatest shortfall over its two cells (Brent; over the one toward the other
+      grid point that reaches where a neighbour does not: an exact 45 deg member's island 5.9e-4
+      wide in sw held the last grid point before the branch's end, the hole before it unseen,
+      the source at the island's start): above zero, the branch has a
       hole there (the elbow stretched at both its sides, unseen by the grid), and the pieces
       from the grid points to the hole's sides are added, the sides candidates (as branch
       ends, FOLD_END_NEAR); within FOLD_TOUCH of the size below zero, the elbow touches the
@@ -204,7 +207,13 @@ def _fold_splits(ta, tb, cells, front, p, a, R07, Td, K, hint, has_hint, out, co
         t_lo = ta + h * max(i - 1, 0)
         t_hi = ta + h * min(i + 1, cells)
         t = ta + h * i
-        if -near < s <= 0.0 and lo <= s and hi <= s and n + 2 <= FOLD_SPLIT_PIECES:
+        if (-near < s <= 0.0 and (lo <= s or hi <= s) and (lo <= s or lo > 0.0)
+                and (hi <= s or hi > 0.0) and n + 2 <= FOLD_SPLIT_PIECES):
+            # (a neighbour that does not reach, the branch's end beyond it: the other cell only)
+            if lo > 0.0:
+                t_lo = t
+            if hi > 0.0:
+                t_hi = t
             tm, sm = fold_short_min(t_lo, t_hi, p, a, 0.5 * front, K, -1.0)
             e0 = e1 = tm
             if sm > 0.0:  # (a hole: each side's piece from the grid to the stretched elbow)
