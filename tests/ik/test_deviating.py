@@ -912,6 +912,27 @@ def test_arm_branch_island_that_no_grid_point_of_the_near_miss_scan_sees():
     assert_complete_once(robot, q, 6)
 
 
+def test_nearly_straight_wrist_whose_partner_was_taken_from_a_neighbouring_arm():
+    """A rounded member (random twist, lateral offsets; deviation 1.2e-4 rad), the elbow near
+    its stretch and the wrist 9.1e-3 rad from straight (the all-kinds hunt, seed 104, member
+    32). Two arms 1.5e-3 rad apart each have both wrists (theta5 = +-9.1e-3 and +-7.4e-3, the
+    two wrists of an arm sharing it to 1e-10 rad); the reference finds neither pair. ``ik_all``
+    gave 7 answers, the source missing: its arm's other wrist was found, and the other-wrist
+    polish skipped every solution within STRAIGHT_DEVIATING (2e-2) of straight; with the wrist
+    this near straight a wrist of the other sign on the neighbouring arm, within
+    OTHER_WRIST_ARM, would have passed for its partner too. Nearly straight solutions (beyond
+    STRAIGHTEN_REACH) now look for their partner on their own arm (within DUP_TOL). The
+    source and every reference solution are answers, and no two answers one solution (the
+    neighbouring arm's wrist is not the source by the reference's rule)."""
+    dh = np.array([[0.0, 0.0, 894.0, 0.0], [297.0, math.pi / 2, -14.0, 0.0], [959.0, 0.0, 55.0, 0.0],
+                   [25.0, math.pi / 2, 1253.0, 0.0], [0.0, -0.3159045946109737, 127.0, 0.0],
+                   [0.0, 0.6319837221471467, 127.0, 0.0], [0.0, -0.3159045946109737, 183.0, 0.0]])
+    robot = Robot(name="member", dh=dh)
+    assert robot.family.deviation > 0.0
+    q = np.array([1.0134512340198523, 2.686870434702997, -1.5889931461094218, 3.031904081611402,
+                  0.009085012142171056, 0.7268598198006075])
+    assert_complete_once(robot, q, 4)
+
 def test_folded_elbow_and_straight_wrist_without_a_candidate_at_the_stretch():
     """The rounded member of the test above, another source of the same hunt (the elbow folded,
     the wrist 1e-9 rad from straight), missed until the split's starts ran for every candidate

@@ -47,6 +47,7 @@ from .constants import (
     SCAN_SLOT,
     STALL_PATIENCE,
     STRAIGHT_DEVIATING,
+    STRAIGHTEN_REACH,
     STRETCH_CHUNK,
     STRETCH_ITERS,
     STRETCH_SPLITS,
@@ -708,22 +709,28 @@ def other_wrists(R07, Td, K, out, count, ws, mats):
     idealised model has no solution near (both come from one near miss, beside the elbow stretch
     or the fully bent wrist), the polish of the near miss's candidates can reach one wrist and
     not the other: a solution with no other one within OTHER_WRIST_ARM (rad, joints 1 to 3) whose
-    theta5 has the other sign starts a polish from its arm with the other wrist. Not at a straight
-    wrist, whose neighbours the straight-wrist scan finds (:func:`straight_family`)."""
+    theta5 has the other sign starts a polish from its arm with the other wrist. With the wrist
+    within STRAIGHT_DEVIATING of straight the window is DUP_TOL: there the two wrists of an arm
+    share it (to 1e-10 rad on a rounded member at theta5 = 9e-3, beside the elbow's stretch), while
+    a second arm 1.5e-3 rad away, with a wrist of the other sign, had passed for the partner. Not
+    within STRAIGHTEN_REACH of straight, whose neighbours the straight-wrist scan finds
+    (:func:`straight_family`)."""
     th = ws[W_TH:W_TH + NTH]
     qq = ws[W_QQ:W_QQ + 6]
     n0 = count
     for s in range(n0):
         t5 = theta5(out[s], K)
-        if abs(t5) < STRAIGHT_DEVIATING:
+        if abs(t5) < STRAIGHTEN_REACH:
             continue
+        # (nearly straight, the two wrists of an arm share it: a window of DUP_TOL)
+        window = OTHER_WRIST_ARM if abs(t5) >= STRAIGHT_DEVIATING else DUP_TOL
         paired = False
         for e in range(count):
             if e == s or theta5(out[e], K) * t5 >= 0.0:
                 continue
             near = True
             for i in range(3):
-                near = near and abs(wrap(out[e, i] - out[s, i])) < OTHER_WRIST_ARM
+                near = near and abs(wrap(out[e, i] - out[s, i])) < window
             if near:
                 paired = True
                 break
