@@ -83,6 +83,37 @@ def paper():
     return ik7r.load_robot()
 
 
+def test_straight_snap_whose_arm_is_off_by_the_square_root_rounding():
+    """An exact 45 deg member with lateral offsets, the wrist exactly straight (a random-member
+    hunt, seed 105, member 33). The polynomial's root at the straight wrist is a double one, so
+    its rounding in d is a square root in theta5: the arm from it lay 2e-6 rad off, the snap to
+    theta5 = 0 missed the pose by 2e-3 mm, Newton's step is not defined there, and only a
+    nearly straight pair (theta5 = +-1e-6, q4 = 0 and pi) came back: exact, but no straight
+    answer with the documented split, and ``ik`` from the source's seed did not give it back.
+    The damped polish of a straight snap that ran on the shoulder set only (``straight_damped``:
+    the wrist held straight where the free polish leaves it) now runs wherever Newton cannot
+    polish the snap. One answer, exactly straight, with the default split (q4 = 0) and the
+    source's arm and sum; ``ik`` with the source as its seed returns the source."""
+    dh = np.array([[0.0, 0.0, 727.0, 0.0], [102.0, -np.pi / 2, 129.0, 0.0], [1019.0, 0.0, 68.0, 0.0],
+                   [161.0, -np.pi / 2, 1474.0, 0.0], [0.0, -np.pi / 4, 63.0, 0.0],
+                   [0.0, np.pi / 2, 63.0, 0.0], [0.0, -np.pi / 4, 25.0, 0.0]])
+    robot = ik7r.robot.Robot(name="member", dh=dh)
+    assert robot.family.deviation == 0.0
+    q = np.array([-2.925191402510144, -0.8351307378577557, -1.46516740703467, -0.38776429414297287,
+                  0.0, -0.40897372253697295])
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    dp, dr = pose_errors(robot.fk(sols), T)
+    assert dp.max() <= robot.position_tolerance + 1e-12
+    assert dr.max() <= 2 * robot.rotation_tolerance + 1e-15
+    near = sols[np.abs(wrap(sols[:, :3] - q[:3])).max(axis=1) < 1e-3]
+    assert len(near) == 1 and near[0, 4] == 0.0 and near[0, 3] == 0.0
+    s4, s7 = robot.joint_sign[3], robot.joint_sign[6]
+    assert np.abs(wrap(near[0, :3] - q[:3])).max() < 1e-9
+    assert abs(wrap(s4 * near[0, 3] + s7 * near[0, 5] - s4 * q[3] - s7 * q[5])) < 1e-9
+    back = robot.ik(T, robot.config_of(q).item(), seed=q)
+    assert np.abs(wrap(back - q)).max() < 1e-9
+
 def test_nearly_straight_wrist_of_the_certified_robot(paper):
     """The issue's counterexample: two roots of the residual within its rounding of each other
     (abs(q5) = 1.1e-6 and 2.4e-4, elbow nearly stretched); all 8 solutions."""

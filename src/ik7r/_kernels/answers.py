@@ -78,22 +78,28 @@ def _split_sum(q, total, K, hint, has_hint):
 
 
 @njit
-def straight_damped(qq, Td, K, hint, has_hint, mats):
-    """Polish the straight snap ``qq`` of the idealised model on the shoulder set by damped steps
-    (:func:`ik7r._kernels.fk.polish`), in place; False when it does not reach an exactly
+def straight_damped(qq, Td, K, hint, has_hint, mats, free=True):
+    """Polish the straight snap ``qq`` of an exact member that Newton could not polish by damped
+    steps (:func:`ik7r._kernels.fk.polish`), in place; False when it does not reach an exactly
     straight point, else True, with q1 as the arm set it (the seed's; the continuum of axis 7 on axis 1 turns
-    the wrist's sum with it) and the split of :func:`_split_sum`. (There the arm's root is only
+    the wrist's sum with it) and the split of :func:`_split_sum`. Off the shoulder set as well
+    (``free`` False: the held polish alone, given up after STALL_PATIENCE steps without
+    progress): the straight wrist's root is a double one wherever the arm is, and an exact 45
+    deg member's arm from it lay 2e-6 rad off (the snap 2e-3 mm off the pose; only the nearly
+    straight shadows +-1e-6 came back). It lands only where the pose is straight to the
+    tolerances: six conditions with the wrist held. (On the shoulder set the arm's root is only
     good to about sqrt(eps), a double root, and the FK is flat: Newton cannot polish the snap, and
     the two bends +-t5 beside it are shadows of the one straight solution. With the elbow
     stretched there as well, the arm's error is a few 1e-7 rad and the damped polish, free in
     q5, takes it up with a bend of the same size, one of those shadows: the snap is then polished
     again with the wrist held straight, q1..q4 alone, where that error is first order.)"""
     q1, q2, q3, q4_snap, q7 = qq[0], qq[1], qq[2], qq[3], qq[5]
-    if not polish(qq, Td, K, 8, True) or bend(qq, K) > STRAIGHT_EXACT:
+    if not free or not polish(qq, Td, K, 8, True) or bend(qq, K) > STRAIGHT_EXACT:
         # (the polish left the straight wrist for a shadow beside it: hold the wrist instead)
         qq[0], qq[1], qq[2], qq[3], qq[5] = q1, q2, q3, q4_snap, q7
         qq[4] = user_angle(4, 0.0, K)
-        if not polish(qq, Td, K, 8, True, 0, 0.0, 0b001111):  # (q5 and q7 held)
+        # (q5 and q7 held; without the free polish first, given up once the error stalls)
+        if not polish(qq, Td, K, 8, True, 0 if free else STALL_PATIENCE, 0.0, 0b001111):
             return False
     qq[4] = user_angle(4, 0.0, K)
     d1 = wrap(q1 - qq[0])

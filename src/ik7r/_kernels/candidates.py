@@ -79,7 +79,14 @@ def wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, fil
                 qq[i] = q[i]
             qq[4] = user_angle(4, 0.0, K)
             straight_split(qq, Q, K, hint, has_hint)
-            if on_shoulder_set(qq, K) and straight_damped(qq, Td, K, hint, has_hint, mats):
+            # (on the shoulder set; with a lateral offset anywhere: the arm from the double
+            # root lay 2e-6 rad off, and only nearly straight shadows came back. Without one,
+            # over the paper robot's and the offset members' 9,000 poses of edges.py, the paths
+            # below gave the same solutions, and this polish cost the paper robot's nearly
+            # straight poses a quarter of their time)
+            shoulder = on_shoulder_set(qq, K)
+            if (shoulder or K[L.B] != 0.0) and straight_damped(qq, Td, K, hint, has_hint, mats,
+                                                                shoulder):
                 count, exact = accept(qq, Td, K, out, count, mats, True)
                 if exact:
                     return count

@@ -69,10 +69,11 @@ FLOOR = 1e-3
 FLOOR_ITERS = 4
 #: A candidate snapped to the fully bent wrist (theta5 = pi) that misses the pose by no more than
 #: this times the tolerances misses it by rounding alone (an exact member: 1.27 times, 1e-12 rad
-#: from its source): where Newton's step is not defined it is polished with joint 5 held (see
-#: :func:`ik7r._kernels.answers._polish_exact`). Farther off, on a 45 deg twist, that polish
-#: travelled 0.12 rad along the fold's flat valley.
-SNAP_ROUNDING = 10.0
+#: from its source; an exact member with lateral offsets and a 17.8 deg twist: 11.4 times, 1e-7
+#: rad from it): where Newton's step is not defined it is polished with joint 5 held (see
+#: :func:`ik7r._kernels.answers._polish_exact`). Far farther off (1.5e6 times), on a 45 deg
+#: twist, that polish travelled 0.12 rad along the fold's flat valley.
+SNAP_ROUNDING = 1e3
 #: Axis 4 on axis 1 (the arm stretched along it: the paper robot's q2 = 90, q3 = -90 deg) turns
 #: joints 1 and 4 together without moving the tool: an exact solution there is a continuum, kept
 #: once, at the seed's q1 (else 0; see :func:`add_answer`). An exact point within CONTINUUM_WINDOW (rad,
