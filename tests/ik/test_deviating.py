@@ -933,6 +933,26 @@ def test_nearly_straight_wrist_whose_partner_was_taken_from_a_neighbouring_arm()
                   0.009085012142171056, 0.7268598198006075])
     assert_complete_once(robot, q, 4)
 
+def test_split_root_between_two_found_whose_residual_changes_sign():
+    """A rounded member (random twist, no lateral offset; deviation 1.2e-4 rad), the elbow near
+    its stretch and the wrist 2.4e-5 rad from straight (the all-kinds hunt, seed 103, member 17).
+    The arm's straight-wrist split has four roots in q4 (-2.7251, -2.6552, -2.5054, -2.4037;
+    between them the pose error rises to 1.7 to 2.5 times the tolerances, so they are four).
+    The reduced residual's scan sees the last two; the first two lie in one of its cells, whose
+    ends have one sign, and the split's damped starts found the first: ``ik_all`` gave 7
+    answers, the source (the second) missed. Between two roots the starts found, a reduced
+    residual of opposite signs just past the one and just before the other means a root
+    between them (by parity), now refined and added. The source and every reference solution
+    are answers, and no two answers one solution."""
+    dh = np.array([[0.0, 0.0, 597.0, 0.0], [370.0, -math.pi / 2, 0.0, 0.0], [759.0, 0.0, 0.0, 0.0],
+                   [96.0, math.pi / 2, 1211.0, 0.0], [0.0, -0.27838001569309556, 140.0, 0.0],
+                   [0.0, 0.5569345643113905, 140.0, 0.0], [0.0, -0.27838001569309556, 169.0, 0.0]])
+    robot = Robot(name="member", dh=dh)
+    assert robot.family.deviation > 0.0
+    q = np.array([0.15586442095328845, -2.456161602883186, 1.4995738465671218, -2.6551806695885656,
+                  2.382621174445987e-05, -2.2265001586711186])
+    assert_complete_once(robot, q, 8)
+
 def test_folded_elbow_and_straight_wrist_without_a_candidate_at_the_stretch():
     """The rounded member of the test above, another source of the same hunt (the elbow folded,
     the wrist 1e-9 rad from straight), missed until the split's starts ran for every candidate

@@ -385,6 +385,9 @@ STALL_PATIENCE = 6
 #: from straight): windows of 1e-3 and 2e-2 left 226 of 6,000 corner sources missed, these 18
 #: (docs/guide/edges.md, 2026-12-05).
 STRETCH_SPLITS = 48
+#: ... and between two roots of the split they found, the reduced residual is read this fraction
+#: of the way from each (see :func:`ik7r._kernels.reduced._split_parity`)
+SPLIT_PARITY_STEP = 0.1
 STRETCH_ITERS = 60
 STRETCH_CHUNK = 6
 STRETCH_STRAIGHT = 5e-2

@@ -45,6 +45,7 @@ from .constants import (
     SCAN_MEMO,
     SCAN_MEMO_TOL,
     SCAN_SLOT,
+    SPLIT_PARITY_STEP,
     STALL_PATIENCE,
     STRAIGHT_DEVIATING,
     STRAIGHTEN_REACH,
@@ -220,7 +221,8 @@ def _stretched_splits(x, total, Td, K, out, count, mats):
     member: 16 points over 0.02 rad of q4), so a point that a walk joins to one kept before
     (:func:`ik7r._kernels.answers.walked`, within CONTINUUM_WINDOW) is that one. (On the IRB
     5400 with the elbow stretched and the wrist straight, the reduced residual's scan of the
-    split missed the source; 36 of 48 such starts polished onto it, to 1e-12 rad.)"""
+    split missed the source; 36 of 48 such starts polished onto it, to 1e-12 rad.) Between two
+    roots found, the residual's signs tell of roots no start reached (:func:`_split_parity`)."""
     s4 = K[L.SIGN + 3]
     s7 = K[L.SIGN + 6]
     arm0, arm1, arm2, wrist = x[0], x[1], x[2], x[4]
@@ -245,6 +247,46 @@ def _stretched_splits(x, total, Td, K, out, count, mats):
                 kept[nk, i] = x[i]
             nk += 1
             count = add_answer(x.copy(), out, count, Td, K, mats)
+    return _split_parity(kept, nk, Td, K, out, count, mats, J, e, dq, ZO)
+
+
+@njit(allocates=True)
+def _split_parity(kept, nk, Td, K, out, count, mats, J, e, dq, ZO):
+    """The roots of the split that :func:`_stretched_splits`' starts left out between two they
+    found (``kept[:nk]``): where the reduced residual in q4 (:func:`_reduced_at`) has opposite
+    signs just past one root and just before the next (SPLIT_PARITY_STEP of the way between
+    them, each by Gauss-Newton from its root), they hold an odd number of further roots
+    between them, one of which is refined by Illinois to its bracket and added. (A rounded
+    member with the elbow at its stretch and the wrist 2.4e-5 rad from straight: four roots
+    within 0.32 rad of q4, two of them in one cell of the reduced scan beside a cell with a
+    sign change, the starts on either side polished onto their neighbours.)"""
+    if nk < 2:
+        return count
+    T = np.empty((4, 4))
+    A = np.empty((6, 6))
+    g = np.empty(6)
+    qa = np.empty(6)
+    qb = np.empty(6)
+    v = np.empty(nk)
+    for n in range(nk):
+        v[n] = wrap(kept[n, 3])
+    order = np.argsort(v)
+    for n in range(nk - 1):
+        a = kept[order[n]]
+        b = kept[order[n + 1]]
+        gap = v[order[n + 1]] - v[order[n]]
+        if gap <= 2.0 * DUP_TOL:
+            continue
+        for i in range(6):
+            qa[i] = a[i]
+            qb[i] = b[i]
+        va = v[order[n]] + SPLIT_PARITY_STEP * gap
+        vb = v[order[n + 1]] - SPLIT_PARITY_STEP * gap
+        ra, _, oka = _reduced_at(qa, 3, va, Td, K, T, J, A, e, g, dq, ZO)
+        rb, _, okb = _reduced_at(qb, 3, vb, Td, K, T, J, A, e, g, dq, ZO)
+        if oka and okb and ra * rb < 0.0:
+            _reduced_root(qa, 3, va, vb, ra, rb, Td, K, T, J, A, e, g, dq, ZO, False)
+            count, _ = accept(qa.copy(), Td, K, out, count, mats, False, False)
     return count
 
 
