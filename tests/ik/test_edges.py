@@ -78,6 +78,29 @@ def assert_exact(robot, sols, T):
         assert np.all(dp < 1e-9 + FK_ROUNDING) and np.all(dr < 1e-12)
 
 
+def exact_member_answers(dh, q):
+    """An exact family member of the DH table ``dh``, the pose of ``q``, and ``ik_all``'s answers,
+    each checked exact (position and rotation): (robot, q, T, sols)."""
+    robot = ik7r.robot.Robot(name="member", dh=np.array(dh, float))
+    assert robot.family.deviation == 0.0
+    q = np.array(q, float)
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    dp, dr = pose_errors(robot.fk(sols), T)
+    assert dp.max() <= robot.position_tolerance + 1e-12
+    assert dr.max() <= 2 * robot.rotation_tolerance + 1e-15
+    return robot, q, T, sols
+
+
+def assert_reference_answered(robot, q, T, sols, n):
+    """The source ``q`` and each of the reference's ``n`` solutions among the answers, and as
+    many answers as it has solutions (so none twice)."""
+    ref = list(reference_ik(robot, T))
+    for x in [q] + ref:
+        assert among(robot, sols, x, T), x
+    assert len(ref) == n and len(sols) == len(ref)
+
+
 @pytest.fixture(scope="module")
 def paper():
     return ik7r.load_robot()
@@ -91,21 +114,15 @@ def test_straight_snap_whose_arm_is_off_by_the_square_root_rounding():
     nearly straight pair (theta5 = +-1e-6, q4 = 0 and pi) came back: exact, but no straight
     answer with the documented split, and ``ik`` from the source's seed did not give it back.
     The damped polish of a straight snap that ran on the shoulder set only (``straight_damped``:
-    the wrist held straight where the free polish leaves it) now runs wherever Newton cannot
-    polish the snap. One answer, exactly straight, with the default split (q4 = 0) and the
+    the wrist held straight) now also runs, for an exact member with a lateral offset, wherever
+    Newton cannot polish the snap. One answer, exactly straight, with the default split (q4 = 0) and the
     source's arm and sum; ``ik`` with the source as its seed returns the source."""
     dh = np.array([[0.0, 0.0, 727.0, 0.0], [102.0, -np.pi / 2, 129.0, 0.0], [1019.0, 0.0, 68.0, 0.0],
                    [161.0, -np.pi / 2, 1474.0, 0.0], [0.0, -np.pi / 4, 63.0, 0.0],
                    [0.0, np.pi / 2, 63.0, 0.0], [0.0, -np.pi / 4, 25.0, 0.0]])
-    robot = ik7r.robot.Robot(name="member", dh=dh)
-    assert robot.family.deviation == 0.0
-    q = np.array([-2.925191402510144, -0.8351307378577557, -1.46516740703467, -0.38776429414297287,
-                  0.0, -0.40897372253697295])
-    T = robot.fk(q)
-    sols = robot.ik_all(T)
-    dp, dr = pose_errors(robot.fk(sols), T)
-    assert dp.max() <= robot.position_tolerance + 1e-12
-    assert dr.max() <= 2 * robot.rotation_tolerance + 1e-15
+    robot, q, T, sols = exact_member_answers(dh, [-2.925191402510144, -0.8351307378577557,
+                                                  -1.46516740703467, -0.38776429414297287, 0.0,
+                                                  -0.40897372253697295])
     near = sols[np.abs(wrap(sols[:, :3] - q[:3])).max(axis=1) < 1e-3]
     assert len(near) == 1 and near[0, 4] == 0.0 and near[0, 3] == 0.0
     s4, s7 = robot.joint_sign[3], robot.joint_sign[6]
@@ -113,6 +130,7 @@ def test_straight_snap_whose_arm_is_off_by_the_square_root_rounding():
     assert abs(wrap(s4 * near[0, 3] + s7 * near[0, 5] - s4 * q[3] - s7 * q[5])) < 1e-9
     back = robot.ik(T, robot.config_of(q).item(), seed=q)
     assert np.abs(wrap(back - q)).max() < 1e-9
+
 
 def test_nearly_straight_wrist_of_the_certified_robot(paper):
     """The issue's counterexample: two roots of the residual within its rounding of each other
@@ -637,18 +655,8 @@ def test_exact_45_deg_member_on_the_shoulder_set_beside_the_fold(dh, q, n):
     centre crosses axis 1) and the gap jumps from -0.043 to -1e-6: Brent's minimiser took the
     plateau for the cell. A cell of the first grid that holds a switch is now scanned as two
     pieces, one each side of it."""
-    robot = ik7r.robot.Robot(name="member", dh=np.array(dh))
-    assert robot.family.deviation == 0.0
-    q = np.array(q)
-    T = robot.fk(q)
-    sols = robot.ik_all(T)
-    dp, dr = pose_errors(robot.fk(sols), T)
-    assert dp.max() <= robot.position_tolerance + 1e-12
-    assert dr.max() <= 2 * robot.rotation_tolerance + 1e-15
-    ref = list(reference_ik(robot, T))
-    for x in [q] + ref:
-        assert among(robot, sols, x, T), x
-    assert len(ref) == n and len(sols) == len(ref)  # (and none twice)
+    robot, q, T, sols = exact_member_answers(dh, q)
+    assert_reference_answered(robot, q, T, sols, n)
 
 
 def test_exact_45_deg_member_near_the_shoulder_set_in_the_fold_span():
@@ -665,19 +673,10 @@ def test_exact_45_deg_member_near_the_shoulder_set_in_the_fold_span():
     dh = np.array([[0.0, 0.0, 23.0, 0.0], [218.0, np.pi / 2, 0.0, 0.0], [1007.0, 0.0, 0.0, 0.0],
                    [76.0, np.pi / 2, 1215.0, 0.0], [0.0, -np.pi / 4, 79.0, 0.0],
                    [0.0, np.pi / 2, 79.0, 0.0], [0.0, -np.pi / 4, 29.0, 0.0]])
-    robot = ik7r.robot.Robot(name="member", dh=dh)
-    assert robot.family.deviation == 0.0
-    q = np.array([-1.5524400915412677, 1.7105765823991461, 1.431842136371575, 0.08083437719585751,
-                  2.767264906330296, 1.931459896268671])
-    T = robot.fk(q)
-    sols = robot.ik_all(T)
-    dp, dr = pose_errors(robot.fk(sols), T)
-    assert dp.max() <= robot.position_tolerance + 1e-12
-    assert dr.max() <= 2 * robot.rotation_tolerance + 1e-15
-    ref = list(reference_ik(robot, T))
-    for x in [q] + ref:
-        assert among(robot, sols, x, T), x
-    assert len(ref) == 14 and len(sols) == len(ref)  # (and none twice)
+    robot, q, T, sols = exact_member_answers(dh, [-1.5524400915412677, 1.7105765823991461,
+                                                  1.431842136371575, 0.08083437719585751,
+                                                  2.767264906330296, 1.931459896268671])
+    assert_reference_answered(robot, q, T, sols, 14)
 
 
 _SHOULDER_VALLEYS = [  # exact 45 deg members, the shoulder set and a nearly straight wrist: DH, source
@@ -709,14 +708,7 @@ def test_valley_of_the_shoulder_set_longer_than_the_merge_window(dh, q):
     source and every exact point the reference finds lie on a path of least pose error to an
     answer (the second's source 0.043 rad from its nearest answer: beyond ``among``'s reach,
     in that answer's valley)."""
-    robot = ik7r.robot.Robot(name="member", dh=np.array(dh))
-    assert robot.family.deviation == 0.0
-    q = np.array(q)
-    T = robot.fk(q)
-    sols = robot.ik_all(T)
-    dp, dr = pose_errors(robot.fk(sols), T)
-    assert dp.max() <= robot.position_tolerance + 1e-12
-    assert dr.max() <= 2 * robot.rotation_tolerance + 1e-15
+    robot, q, T, sols = exact_member_answers(dh, q)
     assert answered_twice(robot, sols, T) == []
     for x in [q] + list(reference_ik(robot, T)):
         d = np.abs(wrap(sols - x)).max(axis=1)

@@ -161,16 +161,18 @@ def _insert(q, out, count, Td, K, mats, shoulder):
             mid = out[count] if count < out.shape[0] else mats[MAT_WR].reshape(16)[:6]
             if _joined(out[k], q, mid, Td, K, mats):
                 return count
-            if shoulder and on_shoulder_set(out[k], K) and walked(out[k], q, Td, K, mats, VALLEY_WALK):
-                return count  # (one valley of the shoulder set: see MERGE_WINDOW)
         if (shoulder and far < CONTINUUM_WINDOW and mats[MAT_CW].reshape(16)[CW_FOUND] != 0.0
                 and on_shoulder_set(out[k], K) and walked(out[k], q, Td, K, mats)):
             return count  # (beside a continuum: see CONTINUUM_WINDOW)
-        if _one_valley(out[k], q, far, Td, K, mats):
-            if bend(q, K) < bend(out[k], K):
-                for i in range(6):
-                    out[k, i] = q[i]
-            return count
+        pair = _valley_pair(out[k], q, far, K)
+        if pair or (far < MERGE_WINDOW and shoulder and on_shoulder_set(out[k], K)):
+            # (one valley of a deviating model's nearly straight wrist, or of the shoulder set:
+            # see MERGE_WINDOW; the one walk for both)
+            if walked(out[k], q, Td, K, mats, VALLEY_WALK):
+                if pair and bend(q, K) < bend(out[k], K):
+                    for i in range(6):
+                        out[k, i] = q[i]
+                return count
     if count == out.shape[0]:
         raise RuntimeError("ik7r: more distinct solutions than the output holds (MAX_SOLUTIONS); "
                            "none is dropped silently: please report the pose")
@@ -180,18 +182,19 @@ def _insert(q, out, count, Td, K, mats, shoulder):
 
 
 @njit
-def _one_valley(q0, q1, far, Td, K, mats):
+def _valley_pair(q0, q1, far, K):
     """Whether the exact ``q0`` and ``q1`` (``far`` apart, rad) of a model that deviates from the
-    idealised one are one solution of a nearly straight wrist: both within STRAIGHTEN_REACH of
-    straight, closer than CONTINUUM_WINDOW, and joined by a walk of VALLEY_WALK points at least
-    (:func:`walked`). There the FK is flat in the split, and polishes from a grid of starts (or
-    from a scan's dip) stop at different points of one valley (a rounded member: four points
-    over 2.6e-3 rad of q4, which the path of least pose error joins); its curve leaves the
+    idealised one may be one solution of a nearly straight wrist: both within STRAIGHTEN_REACH of
+    straight and closer than CONTINUUM_WINDOW; they are when a walk of VALLEY_WALK points at
+    least joins them (:func:`walked`, in :func:`_insert`). There the FK is flat in the split,
+    and polishes from a grid of starts (or from a scan's dip) stop at different points of one
+    valley (a rounded member: four points over 2.6e-3 rad of q4, which the path of least pose
+    error joins); its curve leaves the
     straight segment of :func:`_joined`. The walk is finer than WALK_MIN's (three inner points
     over such a pair) so that where two valleys nearly touch, the error's rise between them
     shows at one of its points."""
     return (K[L.DEVIATION] > 0.0 and far < CONTINUUM_WINDOW and bend(q0, K) <= STRAIGHTEN_REACH
-            and bend(q1, K) <= STRAIGHTEN_REACH and walked(q0, q1, Td, K, mats, VALLEY_WALK))
+            and bend(q1, K) <= STRAIGHTEN_REACH)
 
 
 @njit

@@ -88,7 +88,7 @@ CONTINUUM_WINDOW = 3e-2
 WALK_STEP = 2e-3
 WALK_MIN = 4  # (points at least: a walk shorter than WALK_STEP is checked at its quarters too)
 #: ... and at least this many where two nearly straight solutions of a deviating model would be
-#: one valley (see :func:`ik7r._kernels.answers._one_valley`)
+#: one valley (see :func:`ik7r._kernels.answers._valley_pair`)
 VALLEY_WALK = 40
 WALK_SLACK = DUP_TOL  # (how much farther than twice its share a walk's step may move a joint)
 #: ... and a point of the continuum turned to another joint 1 that misses the pose by no more
