@@ -12,13 +12,20 @@ a miss; ``d`` when one is, one solution by the solver's documented rule; ``v`` w
 but the path of least pose error from the source to one of its three nearest answers meets the
 pose all along: a point of that answer's valley beyond ``among``'s reach of 1e-2 rad, where the
 shoulder set and a nearly straight wrist meet and the pose is met along a valley longer than
-the solver's MERGE_WINDOW) with its member's DH table and its joints, ready to be made a test.
+the solver's MERGE_WINDOW; ``r`` when ``ik_all`` raised, counted a miss) with its member's DH table
+and its joints, ready to be made a test.
 The counts of misses and of such valley points end the output.
 
+``--frames``: each member is also written in other frames, as a URDF or a datasheet may give it
+(random joint signs, theta offsets, the coupling that keeps theta6 = -theta5, a random base and
+tool); ``--frames mirror`` also flips the signs of lengths and twists the family allows (a1, a2,
+a3, d4, d5 = d6, d7, beta): a mirrored robot, placed on its singular sets by the reference all the
+same. The case line then carries the robot's signs, coupling, base and tool.
+
 Run: ``python benchmarks/hunt.py SEED [MEMBERS] [POSES] [--kinds k1,k2] [--lateral]
-[--beta mix|random|DEG]`` (docs/guide/edges.md has the counts of earlier hunts: the all-kinds
-hunt is the defaults; the stretched-elbow one ``--kinds stretched --lateral --beta random``
-with 100 members and 400 poses).
+[--beta mix|random|DEG] [--frames [mirror]]`` (docs/guide/edges.md has the counts of earlier
+hunts: the all-kinds hunt is the defaults; the stretched-elbow one ``--kinds stretched
+--lateral --beta random`` with 100 members and 400 poses).
 """
 
 from __future__ import annotations
@@ -44,6 +51,47 @@ def _wrap(x):
     return np.pi - np.mod(np.pi - np.asarray(x), 2 * np.pi)
 
 
+def _rigid(rng, reach: float) -> np.ndarray:
+    """A random rigid transform (4, 4): a uniform rotation, a translation within +-reach."""
+    w, x, y, z = (lambda v: v / np.linalg.norm(v))(rng.normal(size=4))
+    T = np.eye(4)
+    T[:3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                 [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                 [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
+    T[:3, 3] = rng.uniform(-reach, reach, 3)
+    return T
+
+
+def _framed(rng, dh: np.ndarray, name: str, mirror: bool) -> Robot:
+    """The member ``dh`` with random joint signs, theta offsets, base and tool (the coupling set
+    so that theta6 = -theta5 still); ``mirror``: each allowed sign of a length or of beta flipped
+    with probability 1/2 first."""
+    dh = np.array(dh, float)
+    if mirror:
+        for i, j in ((1, 0), (2, 0), (3, 0), (3, 2), (6, 2)):
+            dh[i, j] *= rng.choice([-1.0, 1.0])
+        dh[4:6, 2] *= rng.choice([-1.0, 1.0])
+        dh[4:7, 1] *= rng.choice([-1.0, 1.0])
+    sign = rng.choice([-1.0, 1.0], 7)
+    dh[:, 3] = np.round(rng.uniform(-180.0, 180.0, 7), 2) * np.pi / 180.0
+    coupling = (-sign[4] * sign[5], -(dh[4, 3] + dh[5, 3]) * sign[5])
+    return Robot(name=name, dh=dh, joint_sign=sign, coupling=coupling,
+                 base=_rigid(rng, 1000.0), tool=_rigid(rng, 300.0))
+
+
+def _one_by_one(robot: Robot, T: np.ndarray):
+    """``ik_all`` pose by pose: answers and all-True masks, None where it raised."""
+    S, V = [], []
+    for t in T:
+        try:
+            sols = robot.ik_all(t)
+        except RuntimeError:
+            sols = None
+        S.append(sols)
+        V.append(None if sols is None else np.ones(len(sols), bool))
+    return S, V
+
+
 def main(argv: list[str]) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("seed", type=int)
@@ -51,6 +99,8 @@ def main(argv: list[str]) -> int:
     ap.add_argument("poses", type=int, nargs="?", default=300)
     ap.add_argument("--kinds", default=",".join(("uniform",) + KINDS))
     ap.add_argument("--lateral", action="store_true", help="every member with lateral offsets")
+    ap.add_argument("--frames", nargs="?", const="frames", default="",
+                    help="write each member in random frames ('mirror': flip allowed signs too)")
     ap.add_argument("--beta", default="mix",
                     help="'mix' (a third at 45 deg), 'random' (15 .. 45 deg) or a twist in deg")
     args = ap.parse_args(argv)
@@ -61,15 +111,26 @@ def main(argv: list[str]) -> int:
         beta = {"mix": 45.0 if m % 3 == 0 else None, "random": None}.get(args.beta)
         beta = float(args.beta) if args.beta not in ("mix", "random") else beta
         dh = family_member(rng, beta_deg=beta, lateral=lateral, rounded=True)
-        robot = Robot(name=f"member{m}", dh=dh)
+        robot = _framed(rng, dh, f"member{m}", args.frames == "mirror") if args.frames else \
+            Robot(name=f"member{m}", dh=dh)
+        frames = (f" sign={robot.joint_sign.tolist()} coupling={list(robot.coupling)} "
+                  f"base={robot.base.tolist()} tool={robot.tool.tolist()}") if args.frames else ""
         for kind in args.kinds.split(","):
             if kind in ("shoulder", "near_shoulder") and lateral:
                 continue
             Q = (rng.uniform(-np.pi, np.pi, (args.poses, 6)) if kind == "uniform"
                  else singular_joints(robot, rng, kind, args.poses))
             T = robot.fk(Q)
-            S, V = robot.ik_all_batch(T)
+            try:
+                S, V = robot.ik_all_batch(T)
+            except RuntimeError:  # a full output: find the pose, one by one
+                S, V = _one_by_one(robot, T)
             for i in range(len(Q)):
+                if S[i] is None:
+                    missed += 1
+                    print(f"r seed={args.seed} member={m} kind={kind} raised dh={robot.dh.tolist()}{frames} "
+                          f"q={Q[i].tolist()}", flush=True)
+                    continue
                 sols = S[i][V[i]]
                 if among(robot, sols, Q[i], T[i], tol=1e-6):
                     continue
@@ -83,7 +144,8 @@ def main(argv: list[str]) -> int:
                 missed += tag == "m"
                 valleys += tag == "v"
                 print(f"{tag} near={near:.2e} seed={args.seed} member={m} "
-                      f"kind={kind} answers={len(sols)} dh={dh.tolist()} q={Q[i].tolist()}", flush=True)
+                      f"kind={kind} answers={len(sols)} dh={robot.dh.tolist()}{frames} q={Q[i].tolist()}",
+                      flush=True)
     print(f"seed {args.seed}: {missed} sources missed, {valleys} in an answer's valley beyond among's reach")
     return 1 if missed else 0
 

@@ -586,7 +586,7 @@ def among(robot, sols, q, T, tol=1e-6, reach=1e-2):
     joint vectors that differ by more than ``tol`` rad. In order:
 
     1. an answer within ``tol`` rad in every joint;
-    2. at a straight wrist (both abs(q5) < 1e-4) an answer with q1, q2, q3, q5 and
+    2. at a straight wrist (both DH theta5 within 1e-4 of 0) an answer with q1, q2, q3, q5 and
        ``s4 q4 + s7 q7`` within ``tol``, when the split turned from ``q``'s to the answer's (q4
        turned, q7 back by the same: 9 points with ``q``'s other joints, then half way on to the
        answer) meets the pose: on the idealised family the split of an exactly straight wrist is
@@ -625,13 +625,14 @@ def among(robot, sols, q, T, tol=1e-6, reach=1e-2):
 
 
 def _straight_matches(ch, sols, q, tol, straight=1e-4):
-    """Which answers match ``q`` at a straight wrist in q1, q2, q3, q5 and the sum s4 q4 + s7 q7."""
-    if abs(_wrap(q[4])) >= straight:
+    """Which answers match ``q`` at a straight wrist (DH theta5 within ``straight`` of 0) in q1,
+    q2, q3, q5 and the sum s4 q4 + s7 q7."""
+    if abs(_wrap(ch.theta(q)[0, 4])) >= straight:
         return np.zeros(len(sols), bool)
     rest = np.abs(_wrap(sols[:, [0, 1, 2, 4]] - q[[0, 1, 2, 4]])).max(axis=1)
     s4, s7 = ch.sign[3], ch.sign[6]
     total = np.abs(_wrap(s4 * (sols[:, 3] - q[3]) + s7 * (sols[:, 5] - q[5])))
-    return (np.abs(_wrap(sols[:, 4])) < straight) & (np.maximum(rest, total) <= tol)
+    return (np.abs(_wrap(ch.theta(sols)[:, 4])) < straight) & (np.maximum(rest, total) <= tol)
 
 
 def _meets(ch, T, Q):

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from reference_ik import among, family_member, singular_joints
 
 import ik7r
 from ik7r.robot import family
@@ -205,3 +206,61 @@ def test_limits_are_named_constants_and_documented():
     assert blocks
     for code in blocks:  # the page's examples run
         exec(compile(code, "ranges.md", "exec"), {})
+
+
+# ---------------------------------------------------------------- frames at the singular sets
+# Found by ``benchmarks/hunt.py --frames`` (issue 12, second session of 2026-12-05): the sign
+# round trip above keeps away from the straight wrist; these poses are on it and beside it.
+def _singular_round_trip(robot, kind, n, seed=1):
+    """Sources on a singular set (the reference's ``singular_joints``): ``ik_all`` answers each
+    (never raises) and the source is among the answers by the reference's rule."""
+    Q = singular_joints(robot, np.random.default_rng(seed), kind, n)
+    missed = [q for q in Q if not among(robot, robot.ik_all(robot.fk(q)), q, robot.fk(q))]
+    assert not missed, (kind, len(missed), missed[:2])
+
+
+def _member(seed):
+    return family_member(np.random.default_rng(seed), lateral=False, rounded=True)
+
+
+def test_negative_beta_is_a_frame_choice_beside_the_straight_wrist():
+    dh = _member(5)
+    dh[4:7, 1] *= -1.0  # twists (+b, -2 b, +b): beta < 0
+    robot = Robot(name="mirrored wrist", dh=dh)
+    np.testing.assert_array_equal(robot.dh, dh)  # kept as written
+    assert robot.family.beta > 0.0 and robot.family.deviation == 0.0
+    Q = _sources(np.random.default_rng(2), 20)
+    for q in Q:  # the same robot: the kernels' table places the tool where the table as written does
+        T = reference_fk(dh, np.ones(7), (-1.0, 0.0), q)
+        np.testing.assert_allclose(robot.fk(q), T, rtol=0, atol=1e-11 * robot.family.scale)
+    # before: the nearly straight solutions of 36 of these 40 sources were missed (the wrist's
+    # half-angle formulas took beta > 0)
+    for kind in ("near_straight", "straight", "shoulder"):
+        _singular_round_trip(robot, kind, 40)
+
+
+def test_theta_offsets_whose_mirror_sums_to_a_turn_are_no_deviation():
+    dh = _member(5)
+    dh[4, 3], dh[5, 3] = 2.5, 1.0  # the coupling offset -3.5 rad is reduced to 2.78: a turn apart
+    robot = Robot(name="offsets", dh=dh, coupling=(-1.0, -3.5))
+    assert robot.family.deviation == 0.0  # (before: 2 pi, and the straight wrist raised)
+    for kind in ("straight", "near_straight"):
+        _singular_round_trip(robot, kind, 30)
+
+
+@pytest.mark.parametrize("row,col,delta,negligible", [
+    (5, 2, 1e-13, True),  # d6 1e-13 mm long: no pose moves by 1e-2 of the tolerance
+    (5, 1, 1e-15, True),  # a twist 1e-15 rad off
+    (5, 2, 1e-11, False),  # about the tolerance: solved as a deviating model
+    (5, 2, 1e-9, False),
+    (5, 1, 1e-13, False),
+    (5, 1, 1e-11, False),
+])
+def test_deviation_about_the_tolerance_at_the_straight_wrist(row, col, delta, negligible):
+    dh = _member(5)
+    dh[row, col] += delta
+    robot = Robot(name="nearly the member", dh=dh)
+    assert (robot.family.deviation == 0.0) == negligible
+    # before: ik_all raised (its output full) for up to 59 of these 60 poses: the pose was met
+    # along most of the straight wrist's circle, in points more than MERGE_WINDOW apart
+    _singular_round_trip(robot, "straight", 60)

@@ -15,6 +15,7 @@ import math
 
 from . import params as L
 from .constants import (
+    CIRCLE_WALK,
     CONTINUUM_WINDOW,
     CW_FOUND,
     CW_REF,
@@ -192,9 +193,26 @@ def _valley_pair(q0, q1, far, K):
     error joins); its curve leaves the
     straight segment of :func:`_joined`. The walk is finer than WALK_MIN's (three inner points
     over such a pair) so that where two valleys nearly touch, the error's rise between them
-    shows at one of its points."""
-    return (K[L.DEVIATION] > 0.0 and far < CONTINUUM_WINDOW and bend(q0, K) <= STRAIGHTEN_REACH
-            and bend(q1, K) <= STRAIGHTEN_REACH)
+    shows at one of its points. Farther apart, two such solutions with the arm, q5 and
+    ``s4 q4 + s7 q7`` within MERGE_WINDOW (one circle of the idealised model's straight wrist)
+    may be one too: a model that deviates by about the tolerance (a twist 1e-13 rad off, d6 1e-11
+    mm) meets the pose along much of that circle, whose exact points then filled the output.
+    Only on a model whose deviation moves a pose by CIRCLE_WALK tolerances at most: a valley
+    longer than MERGE_WINDOW needs it within about 100 (the error along the circle grows about
+    as the deviation's move times the turn)."""
+    if not (K[L.DEVIATION] > 0.0 and bend(q0, K) <= STRAIGHTEN_REACH and bend(q1, K) <= STRAIGHTEN_REACH):
+        return False
+    if far < CONTINUUM_WINDOW:
+        return True
+    if K[L.DEVIATION_EFFECT] > CIRCLE_WALK:
+        return False
+    # farther: one circle of the idealised model's straight wrist (the arm, q5 and the sum)
+    for i in (0, 1, 2, 4):
+        if abs(wrap(q0[i] - q1[i])) > MERGE_WINDOW:
+            return False
+    s4 = K[L.SIGN + 3]
+    s7 = K[L.SIGN + 6]
+    return abs(wrap(s4 * (q0[3] - q1[3]) + s7 * (q0[5] - q1[5]))) <= MERGE_WINDOW
 
 
 @njit

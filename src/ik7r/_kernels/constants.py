@@ -90,6 +90,10 @@ WALK_MIN = 4  # (points at least: a walk shorter than WALK_STEP is checked at it
 #: ... and at least this many where two nearly straight solutions of a deviating model would be
 #: one valley (see :func:`ik7r._kernels.answers._valley_pair`)
 VALLEY_WALK = 40
+#: ... and nearly straight solutions farther apart on one circle of the straight wrist are
+#: walked only on a model whose deviation moves a pose by at most this many tolerances
+#: (``ik7r.robot.family.Family.deviation_effect``; see :func:`ik7r._kernels.answers._valley_pair`)
+CIRCLE_WALK = 1e4
 WALK_SLACK = DUP_TOL  # (how much farther than twice its share a walk's step may move a joint)
 #: ... and a point of the continuum turned to another joint 1 that misses the pose by no more
 #: than this many times the tolerances is polished onto it (see :func:`_turn_onto`).

@@ -12,6 +12,7 @@ import math
 import numpy as np
 
 from ..geometry.rotations import invert
+from ..robot.family import ROTATION_TOLERANCE
 
 # exact model (used by forward kinematics, the Jacobian and polishing)
 DH = 0  # 7 rows x (a_{i-1}, alpha_{i-1}, d_i, theta_offset_i), row-major
@@ -51,6 +52,7 @@ SCALE = NOM + 17  # characteristic length (for relative tolerances)
 POS_TOL = NOM + 18  # accepted position residual, robot length unit
 ROT_TOL = NOM + 19  # accepted rotation residual, rad
 NCHEB = NOM + 20  # degree of the residual polynomial (8 or 16)
+DEVIATION_EFFECT = NOM + 21  # how far the deviation moves a pose at most, in tolerances
 
 LIMITS = NOM + 24  # lower (6) then upper (6), rad, independent joints
 NDH = LIMITS + 12  # the nominal (idealised) DH table, same layout as DH
@@ -91,8 +93,9 @@ def pack(robot) -> np.ndarray:
     K[PRODUCT] = 0.0 if f.zero_offsets else 1.0
     K[SCALE] = f.scale
     K[POS_TOL] = f.position_tolerance
-    K[ROT_TOL] = 1e-12
+    K[ROT_TOL] = ROTATION_TOLERANCE
     K[NCHEB] = 8 if f.zero_offsets else 16
+    K[DEVIATION_EFFECT] = f.deviation_effect
     K[LIMITS:LIMITS + 6] = robot.lower
     K[LIMITS + 6:LIMITS + 12] = robot.upper
     K[NDH:NDH + 28] = f.nominal_dh.reshape(-1)

@@ -31,6 +31,16 @@ ANGLE_TOL = 1e-3
 #: Offsets that must vanish (a4, a5, a6) and the difference d5 - d6 must stay within this
 #: fraction of the robot's size (about 1 mm on a 1 m arm).
 LENGTH_TOL = 1e-3
+#: Largest rotation residual of a returned solution (rad; every element of the rotation matrix).
+ROTATION_TOLERANCE = 1e-12
+#: A table that differs from its idealised member so little that no pose moves by more than this
+#: fraction of the tolerances (the lengths' differences, plus the twists' and the mirror offset's
+#: times the robot's extent; the twists' alone against ROTATION_TOLERANCE) is solved as that
+#: member (deviation 0), its answers still checked on the table as written. Such differences are
+#: the rounding of a unit conversion (a URDF in metres: d6 = 80.00000000000001 mm) or of the
+#: offsets' sum (theta5 + theta6 = 4e-16 rad): solved as a deviating model, an exactly straight
+#: wrist then met the pose along most of the turn of q4 and filled the output (issue 12).
+NEGLIGIBLE = 1e-2
 #: Largest wrist twist (rad): 45 deg. There the fully bent wrist (theta5 = 180 deg) folds axis 7
 #: back parallel to axis 4 and its virtual wrist centre is at infinity (the search runs in
 #: u = 1 / d, which stays bounded).
@@ -83,8 +93,12 @@ def frame_dh(dh: np.ndarray) -> tuple[np.ndarray, bool]:
     """The DH table ``dh`` (7, 4) in the frames the solvers use, the same robot (the same forward
     kinematics for the same user joints): twists and theta offsets reduced modulo 2 pi, and a
     negative upper arm ``a2`` made positive by turning frame 2 by pi about its z axis (``a2`` and
-    ``alpha2`` change sign, ``pi`` moves from theta3's offset to theta2's). Returns the table and
-    whether the upper arm was flipped."""
+    ``alpha2`` change sign, ``pi`` moves from theta3's offset to theta2's), and a mirror wrist of
+    negative ``beta`` (twists ``(+b, -2 b, +b)``) made positive by turning frames 4 to 6 by pi
+    about their z axes (the three twists change sign, ``pi`` is added to theta4's offset and
+    taken from theta7's: ``RotZ(pi) RotX(a) RotZ(-pi) = RotX(-a)``; the kernels take ``beta`` > 0,
+    as the half angles of :mod:`ik7r._kernels.wrist` do). Returns the table and whether the upper
+    arm was flipped."""
     out = np.array(dh, dtype=float)
     for i in range(7):
         out[i, 1] = reduce_angle(out[i, 1], f"alpha{i} (joint {i + 1})")
@@ -96,6 +110,11 @@ def frame_dh(dh: np.ndarray) -> tuple[np.ndarray, bool]:
         out[2, 1] = -out[2, 1]
         out[1, 3] = math.remainder(out[1, 3] + math.pi, 2 * math.pi)
         out[2, 3] = math.remainder(out[2, 3] - math.pi, 2 * math.pi)
+    if out[4, 1] > 0.0 and out[5, 1] < 0.0 and out[6, 1] > 0.0:
+        # T34 RotZ(pi), RotZ(-pi) through T45 T56 T67 (twists negated), RotZ(-pi) into theta7
+        out[4:7, 1] = -out[4:7, 1]
+        out[3, 3] = math.remainder(out[3, 3] + math.pi, 2 * math.pi)
+        out[6, 3] = math.remainder(out[6, 3] - math.pi, 2 * math.pi)
     out.setflags(write=False)
     return out, flipped
 
@@ -119,6 +138,9 @@ class Family:
     nominal_dh: np.ndarray  # (7, 4) the idealised DH table
     dh: np.ndarray | None = None  # (7, 4) the exact table in the solvers' frames (frame_dh)
     coupling_offset: float = 0.0  # the coupling offset reduced modulo 2 pi
+    #: a bound on how far the deviation moves any pose, in tolerances (position over the
+    #: position tolerance, rotation over ROTATION_TOLERANCE; 0 for a member solved as one)
+    deviation_effect: float = 0.0
 
     @property
     def scale(self) -> float:
@@ -203,8 +225,9 @@ def family_of(dh: np.ndarray, sign: np.ndarray, coupling: tuple[float, float],
     c = reduce_angle(c, "the coupling offset")
     if abs(sign[5] * m / sign[4] + 1.0) > 1e-9:
         raise fail(5, f"joint 6 must mirror joint 5 (theta6 = -theta5); got multiplier {m:g}")
-    mirror_offset = sign[5] * c + off[5] + off[4]
-    if not _near(mirror_offset, 0.0, ANGLE_TOL):
+    # theta5 + theta6 in DH angles, reduced: the offsets may sum to a turn (2 pi is no deviation)
+    mirror_offset = math.remainder(sign[5] * c + off[5] + off[4], 2 * math.pi)
+    if not abs(mirror_offset) <= ANGLE_TOL:
         raise fail(5, "joint 6 must mirror joint 5 (theta6 = -theta5 in DH angles); the offsets "
                    f"leave theta5 + theta6 = {math.degrees(mirror_offset):.6g} deg")
     eps1 = 1.0 if math.remainder(al[1], 2 * math.pi) > 0 else -1.0
@@ -218,11 +241,17 @@ def family_of(dh: np.ndarray, sign: np.ndarray, coupling: tuple[float, float],
     nominal[4:7, 0] = 0.0
     nominal[4:7, 1] = (-beta, 2 * beta, -beta)
     nominal[4:6, 2] = dw
-    deviation = float(max(np.abs(nominal[:, :3] - np.asarray(dh)[:, :3]).max(), abs(mirror_offset)))
+    diff = np.abs(nominal[:, :3] - np.asarray(dh)[:, :3])
+    deviation = float(max(diff.max(), abs(mirror_offset)))
+    turns = float(diff[:, 1].sum()) + abs(mirror_offset)  # (rad) and the lengths' (unit):
+    moves = float(diff[:, [0, 2]].sum()) + turns * (size + abs(d[0]) + abs(d[1]) + abs(d[2]))
+    effect = max(moves / position_tolerance(size), turns / ROTATION_TOLERANCE)
+    if effect <= NEGLIGIBLE:
+        deviation = effect = 0.0  # no pose moves by more than NEGLIGIBLE of the tolerances: the member
     return Family(
         a1=float(a[1]), a2=float(a[2]), a3=float(a[3]), b=float(d[1] + d[2]), d1=float(d[0]),
         d4=float(d[3]), eps1=eps1, eps3=eps3, beta=float(beta), dw=float(dw), d7=float(d[6]),
-        deviation=deviation, nominal_dh=nominal, dh=dh, coupling_offset=float(c),
+        deviation=deviation, nominal_dh=nominal, dh=dh, coupling_offset=float(c), deviation_effect=effect,
     )
 
 
