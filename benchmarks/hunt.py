@@ -36,6 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ik7r.geometry import quat_to_matrix, transform
 from ik7r.robot import Robot
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
@@ -52,14 +53,10 @@ def _wrap(x):
 
 
 def _rigid(rng, reach: float) -> np.ndarray:
-    """A random rigid transform (4, 4): a uniform rotation, a translation within +-reach."""
-    w, x, y, z = (lambda v: v / np.linalg.norm(v))(rng.normal(size=4))
-    T = np.eye(4)
-    T[:3, :3] = [[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-                 [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-                 [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]]
-    T[:3, 3] = rng.uniform(-reach, reach, 3)
-    return T
+    """A random rigid transform (4, 4): a uniform rotation (a normal quaternion), a translation
+    within +-reach."""
+    R = quat_to_matrix(rng.normal(size=4))
+    return transform(R, rng.uniform(-reach, reach, 3))
 
 
 def _framed(rng, dh: np.ndarray, name: str, mirror: bool) -> Robot:

@@ -204,15 +204,7 @@ def _valley_pair(q0, q1, far, K):
         return False
     if far < CONTINUUM_WINDOW:
         return True
-    if K[L.DEVIATION_EFFECT] > CIRCLE_WALK:
-        return False
-    # farther: one circle of the idealised model's straight wrist (the arm, q5 and the sum)
-    for i in (0, 1, 2, 4):
-        if abs(wrap(q0[i] - q1[i])) > MERGE_WINDOW:
-            return False
-    s4 = K[L.SIGN + 3]
-    s7 = K[L.SIGN + 6]
-    return abs(wrap(s4 * (q0[3] - q1[3]) + s7 * (q0[5] - q1[5]))) <= MERGE_WINDOW
+    return K[L.DEVIATION_EFFECT] <= CIRCLE_WALK and _one_circle(q0, q1, K, MERGE_WINDOW)
 
 
 @njit
@@ -398,14 +390,19 @@ def _same_straight(q0, q1, K):
     b1 = bend(q1, K)
     if b1 > DUP_TOL or min(b0, b1) > STRAIGHT_EXACT:
         return False
-    if abs(wrap(q0[4] - q1[4])) > DUP_TOL:
-        return False
-    for i in range(3):
-        if abs(wrap(q0[i] - q1[i])) > DUP_TOL:
+    return _one_circle(q0, q1, K, DUP_TOL)
+
+
+@njit
+def _one_circle(q0, q1, K, tol):
+    """Whether ``q0`` and ``q1`` have the arm, q5 and ``s4 q4 + s7 q7`` within ``tol`` (rad): one
+    circle of the idealised model's straight wrist, whose split (q4 against q7) is free."""
+    for i in (0, 1, 2, 4):
+        if abs(wrap(q0[i] - q1[i])) > tol:
             return False
     s4 = K[L.SIGN + 3]
     s7 = K[L.SIGN + 6]
-    return abs(wrap(s4 * (q0[3] - q1[3]) + s7 * (q0[5] - q1[5]))) <= DUP_TOL
+    return abs(wrap(s4 * (q0[3] - q1[3]) + s7 * (q0[5] - q1[5]))) <= tol
 
 
 @njit
