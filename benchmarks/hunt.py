@@ -5,7 +5,9 @@ Public API and the tests' independent reference only. For a seed, draws MEMBERS 
 datasheet gives them, which leaves most members deviating from the idealised family; a third
 of them at the 45 deg twist unless ``--beta``, half with lateral offsets unless ``--lateral``),
 then for each POSES joint vectors of each kind (uniform, and ``reference_ik.singular_joints``'s singular
-sets; the shoulder set only without lateral offset), makes the poses by forward kinematics and
+sets; the shoulder set only without lateral offset unless ``--lateral-shoulder``, which places
+the centre on or beside the cylinder of radius b where a lateral arm's shoulder branches meet),
+makes the poses by forward kinematics and
 checks each source among the answers (``reference_ik.among``, 1e-6 rad). A source not among
 them is printed on one line (``m`` when no answer is within DUP_TOL = 1e-5 rad in every joint,
 a miss; ``d`` when one is, one solution by the solver's documented rule; ``v`` when none is
@@ -22,10 +24,15 @@ tool); ``--frames mirror`` also flips the signs of lengths and twists the family
 a3, d4, d5 = d6, d7, beta): a mirrored robot, placed on its singular sets by the reference all the
 same. The case line then carries the robot's signs, coupling, base and tool.
 
-Run: ``python benchmarks/hunt.py SEED [MEMBERS] [POSES] [--kinds k1,k2] [--lateral]
-[--beta mix|random|DEG] [--frames [mirror]]`` (docs/guide/edges.md has the counts of earlier
-hunts: the all-kinds hunt is the defaults; the stretched-elbow one ``--kinds stretched
---lateral --beta random`` with 100 members and 400 poses).
+``--deviate F``: each member also deviates from the idealised family by up to F (0 .. 1) of what
+the loader accepts (``ik7r.robot.family.ANGLE_TOL`` and ``LENGTH_TOL``): every twist it checks, the
+offsets a4 .. a6 that must vanish, d5 and d6 apart, and the mirror offset of theta5 + theta6,
+each drawn uniformly within its share of the limit (so that the table still loads).
+
+Run: ``python benchmarks/hunt.py SEED [MEMBERS] [POSES] [--kinds k1,k2] [--lateral] [--lateral-shoulder]
+[--beta mix|random|DEG] [--frames [mirror]] [--deviate F [--deviate-only C1,C2]]``
+(docs/guide/edges.md has the counts of earlier hunts: the all-kinds hunt is the defaults; the
+stretched-elbow one ``--kinds stretched --lateral --beta random`` with 100 members and 400 poses).
 """
 
 from __future__ import annotations
@@ -38,6 +45,7 @@ import numpy as np
 
 from ik7r.geometry import quat_to_matrix, transform
 from ik7r.robot import Robot
+from ik7r.robot.family import ANGLE_TOL, LENGTH_TOL
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from reference_ik import KINDS, among, family_member, least_error_path_meets, singular_joints  # noqa: E402
@@ -76,6 +84,28 @@ def _framed(rng, dh: np.ndarray, name: str, mirror: bool) -> Robot:
                  base=_rigid(rng, 1000.0), tool=_rigid(rng, 300.0))
 
 
+#: The parameter classes ``--deviate`` draws (``--deviate-only`` picks some).
+DEVIATIONS = ("arm_twists", "wrist_twists", "wrist_offsets", "wrist_lengths", "mirror_offset")
+
+
+def _deviated(rng, dh: np.ndarray, f: float, only=DEVIATIONS) -> np.ndarray:
+    """The member ``dh`` deviating from the idealised family by up to ``f`` of the loader's limits
+    (see ``--deviate``): the arm's twists by up to f ANGLE_TOL / 2, the wrist's by up to
+    f ANGLE_TOL / 3 each (the mirror's test compares them with one another), a4 .. a6 by up to
+    f LENGTH_TOL size / 2, d5 and d6 by up to f LENGTH_TOL size / 4 each, theta5's offset by up to
+    f ANGLE_TOL / 2."""
+    dh = np.array(dh, float)
+    size = np.abs(dh[1:4, 0]).sum() + np.abs(dh[3:7, 2]).sum()
+    u = {k: rng.uniform(-f, f, n) for k, n in zip(DEVIATIONS, (3, 3, 3, 2, 1))}  # (the same draws
+    u = {k: (v if k in only else 0.0 * v) for k, v in u.items()}  # whichever classes deviate)
+    dh[1:4, 1] += u["arm_twists"] * ANGLE_TOL / 2
+    dh[4:7, 1] += u["wrist_twists"] * ANGLE_TOL / 3
+    dh[4:7, 0] += u["wrist_offsets"] * LENGTH_TOL * size / 2
+    dh[4:6, 2] += u["wrist_lengths"] * LENGTH_TOL * size / 4
+    dh[4, 3] += u["mirror_offset"][0] * ANGLE_TOL / 2
+    return dh
+
+
 def _one_by_one(robot: Robot, T: np.ndarray):
     """``ik_all`` pose by pose: answers and all-True masks, None where it raised."""
     S, V = [], []
@@ -96,8 +126,14 @@ def main(argv: list[str]) -> int:
     ap.add_argument("poses", type=int, nargs="?", default=300)
     ap.add_argument("--kinds", default=",".join(("uniform",) + KINDS))
     ap.add_argument("--lateral", action="store_true", help="every member with lateral offsets")
+    ap.add_argument("--lateral-shoulder", action="store_true",
+                    help="the shoulder kinds on members with lateral offsets too (the cylinder of radius b)")
     ap.add_argument("--frames", nargs="?", const="frames", default="",
                     help="write each member in random frames ('mirror': flip allowed signs too)")
+    ap.add_argument("--deviate", type=float, default=0.0,
+                    help="deviate each member by up to this fraction (0 .. 1) of the loader's limits")
+    ap.add_argument("--deviate-only", default=",".join(DEVIATIONS),
+                    help=f"the classes --deviate draws, of {','.join(DEVIATIONS)}")
     ap.add_argument("--beta", default="mix",
                     help="'mix' (a third at 45 deg), 'random' (15 .. 45 deg) or a twist in deg")
     args = ap.parse_args(argv)
@@ -108,12 +144,14 @@ def main(argv: list[str]) -> int:
         beta = {"mix": 45.0 if m % 3 == 0 else None, "random": None}.get(args.beta)
         beta = float(args.beta) if args.beta not in ("mix", "random") else beta
         dh = family_member(rng, beta_deg=beta, lateral=lateral, rounded=True)
+        if args.deviate:
+            dh = _deviated(rng, dh, args.deviate, args.deviate_only.split(","))
         robot = _framed(rng, dh, f"member{m}", args.frames == "mirror") if args.frames else \
             Robot(name=f"member{m}", dh=dh)
         frames = (f" sign={robot.joint_sign.tolist()} coupling={list(robot.coupling)} "
                   f"base={robot.base.tolist()} tool={robot.tool.tolist()}") if args.frames else ""
         for kind in args.kinds.split(","):
-            if kind in ("shoulder", "near_shoulder") and lateral:
+            if kind in ("shoulder", "near_shoulder") and lateral and not args.lateral_shoulder:
                 continue
             Q = (rng.uniform(-np.pi, np.pi, (args.poses, 6)) if kind == "uniform"
                  else singular_joints(robot, rng, kind, args.poses))

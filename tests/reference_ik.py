@@ -541,7 +541,10 @@ def singular_joints(robot, rng, kind, n):
     * ``stretched``: DH theta3 = gamma or gamma + pi, the elbow's K / R = +-1 (``gamma`` of the
       virtual centre's distance L = d4 + s(theta5) and a3);
     * ``shoulder``: the virtual centre on axis 1 (arms without lateral offset), theta2 in closed
-      form; ``near_shoulder``: at 1e-9 .. 1e-3 of the size from it.
+      form; ``near_shoulder``: at 1e-9 .. 1e-3 of the size from it. With a lateral offset b the
+      same radial coordinate in the arm's plane (0, or 1e-9 .. 1e-3 of the size) places the centre
+      on (or beside) the cylinder of radius abs(b) about axis 1, where the arm's two shoulder
+      branches meet.
     """
     ch = Chain(robot)
     th = rng.uniform(-np.pi, np.pi, (n, 7))
@@ -558,8 +561,6 @@ def singular_joints(robot, rng, kind, n):
         if kind == "stretched":
             th[:, 2] = gamma + np.pi * rng.integers(0, 2, n)
         else:
-            if abs(ch.b) > 1e-9 * ch.size:
-                raise ValueError("the shoulder set needs an arm without lateral offset")
             delta = 0.0 if kind == "shoulder" else (rng.choice([-1.0, 1.0], n) * ch.size
                                                      * 10.0 ** rng.uniform(-9, -3, n))
             t3 = th[:, 2]

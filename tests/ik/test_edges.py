@@ -713,3 +713,53 @@ def test_valley_of_the_shoulder_set_longer_than_the_merge_window(dh, q):
     for x in [q] + list(reference_ik(robot, T)):
         d = np.abs(wrap(sols - x)).max(axis=1)
         assert any(least_error_path_meets(robot, T, x, sols[k], steps=80) for k in np.argsort(d)[:3]), x
+
+
+_LATERAL_SHOULDER_SET = [  # exact members with a lateral offset b (hunt seed 641): DH, source on the cylinder
+    ([[0.0, 0.0, 241.0, 0.0], [34.0, math.pi / 2, -86.0, 0.0], [706.0, 0.0, -126.0, 0.0],
+      [140.0, math.pi / 2, 1296.0, 0.0], [0.0, -0.49131018443640373, 97.0, 0.0],
+      [0.0, 0.9826203688728075, 97.0, 0.0], [0.0, -0.49131018443640373, 115.0, 0.0]],
+     [2.770889331309726, 3.0070055283120025, -0.4406004737046718, -2.5591492323899017, -2.524341804105841,
+      0.34336954892260296]),
+    ([[0.0, 0.0, 696.0, 0.0], [74.0, math.pi / 2, -138.0, 0.0], [849.0, 0.0, -86.0, 0.0],
+      [210.0, -math.pi / 2, 1198.0, 0.0], [0.0, -0.5967280712568612, 148.0, 0.0],
+      [0.0, 1.1934561425137225, 148.0, 0.0], [0.0, -0.5967280712568612, 84.0, 0.0]],
+     [-1.514740795909299, -0.962093579515586, -2.428110478608369, -1.3159659437774245, 2.222512686392106,
+      1.6666321029182134]),
+    ([[0.0, 0.0, 196.0, 0.0], [17.0, math.pi / 2, 21.0, 0.0], [1275.0, 0.0, 74.0, 0.0],
+      [148.0, -math.pi / 2, 789.0, 0.0], [0.0, -math.pi / 4, 117.0, 0.0], [0.0, math.pi / 2, 117.0, 0.0],
+      [0.0, -math.pi / 4, 64.0, 0.0]],
+     [-2.83752523257254, -2.200640909051418, 0.0939442346298267, 1.43148144694449, 1.4861894038368755,
+      1.3379830677579596]),
+    ([[0.0, 0.0, 679.0, 0.0], [395.0, -math.pi / 2, -108.0, 0.0], [802.0, 0.0, 58.0, 0.0],
+      [60.0, -math.pi / 2, 766.0, 0.0], [0.0, -math.pi / 4, 100.0, 0.0], [0.0, math.pi / 2, 100.0, 0.0],
+      [0.0, -math.pi / 4, 92.0, 0.0]],
+     [-3.0723502825983005, 0.0455219293165956, 3.029631197096858, 1.7252780392615428, 3.0099685697229352,
+      -2.3358244595341757]),
+]
+
+
+@pytest.mark.parametrize(("dh", "q"), _LATERAL_SHOULDER_SET)
+def test_virtual_centre_on_the_cylinder_of_the_lateral_offset(dh, q):
+    """Exact members with a lateral offset b, the virtual wrist centre on the cylinder of radius
+    abs(b) about axis 1 (the radial coordinate in the arm's plane 0), where the arm's two
+    shoulder branches meet: the shoulder singular set of an arm with a lateral offset, which no
+    test or hunt had placed poses on. ``ik_all`` missed the source (and its wrist's mirror) at 77
+    of 1,600 such poses of 16 members (the second here: 2 of the reference's 4 answered, the
+    solutions 0.016 rad apart in q1 beside the set). The root at the set put the centre 1.7e-13
+    mm inside the cylinder, and the test for it, ``r^2 - b^2 < -(1e-9 of the size)^2``, squared
+    the rounding's distance but not the product it is, ``2 abs(b)`` times it: the root was
+    dropped. Now a centre within LATERAL_ROUNDING of the size (in distance) is on the cylinder.
+    The last: a 45 deg member with the wrist 0.13 rad from fully bent (the fold scan's arm had the
+    same test). Every solution of the reference, and the source, among the answers; each exact."""
+    robot = ik7r.robot.Robot(name="lateral", dh=np.array(dh))
+    assert robot.family.deviation == 0.0 and robot.family.b != 0.0
+    q = np.array(q)
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    dp, dr = pose_errors(robot.fk(sols), T)
+    assert dp.max() <= robot.position_tolerance and dr.max() <= robot.rotation_tolerance
+    ref = reference_ik(robot, T, extra_starts=q[None])
+    assert among(robot, sols, q, T)
+    assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
+    assert answered_twice(robot, sols, T) == []

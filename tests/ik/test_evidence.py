@@ -84,6 +84,8 @@ _SET_OPEN: dict[tuple[str, str], str] = {
 _SET_POSES = 3
 _SET_CASES = [(r, k) for r in ("paper", "irb5400", "offsets", "rounded", "beta45")
               for k in KINDS + ("random",) if not (r == "offsets" and k.endswith("shoulder"))]
+# (the lateral offset's shoulder set, the cylinder of radius b, last: the cases' seeds follow the list)
+_SET_CASES += [("offsets", "shoulder"), ("offsets", "near_shoulder")]
 
 
 def _set_param(r, k):
@@ -140,7 +142,6 @@ def _member_sources_missed(name, seed, kind, lateral, **member):
     """Two sources on a random family member (``member``: :func:`family_member`'s options), at
     random joints or on the singular set ``kind``: those not among their pose's answers."""
     rng = np.random.default_rng(seed)
-    lateral = lateral and "shoulder" not in kind
     robot = Robot(name=name, dh=family_member(rng, lateral=lateral, **member))
     Q = rng.uniform(-np.pi, np.pi, (2, 6)) if kind == "random" else singular_joints(robot, rng, kind, 2)
     return [q.tolist() for q in Q if not _check_round_trip(robot, q)]

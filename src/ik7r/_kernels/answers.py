@@ -52,7 +52,7 @@ from .constants import (
 )
 from .fk import ALL_JOINTS, dh_angle, fk_user, newton_undefined, polish, residual, user_angle
 from .jit import njit
-from .singular import elbow_stretched
+from .singular import elbow_stretched, straight_circle
 
 
 @njit
@@ -376,13 +376,14 @@ def bend(q, K):
 
 @njit
 def _same_straight(q0, q1, K):
-    """Whether ``q0`` and ``q1`` are one straight-wrist solution of the idealised model: one of
+    """Whether ``q0`` and ``q1`` are one straight-wrist solution of a model whose straight wrist
+    is a circle (:func:`ik7r._kernels.singular.straight_circle`): one of
     them with theta5 within STRAIGHT_EXACT of 0, the other within DUP_TOL, the arm within
     DUP_TOL and the same ``s4 q4 + s7 q7`` (the only wrist angle defined there; the split is
     free). So a nearly straight solution within DUP_TOL (every joint) of a point of an exactly
     straight one's circle is that solution: where the FK is flat the circle has nearly straight
     shadows, e.g. the wrist's two bends +-3e-8 with q4 half a turn apart beside axis 7 on axis 1."""
-    if K[L.DEVIATION] != 0.0:
+    if not straight_circle(K):
         return False
     b0 = bend(q0, K)
     if b0 > DUP_TOL:

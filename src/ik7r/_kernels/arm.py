@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 from . import params as L
+from .constants import LATERAL_ROUNDING
 from .jit import njit
 
 
@@ -53,10 +54,12 @@ def arm_reach(px, py, pz, Ld, front, t1_hint, K, slack=1e-12):
     """Whether :func:`arm_ik` reaches the point (its ``ok``), without its angles: (rho, xx, xy,
     c, ok) as :func:`elbow_cosine` gives them, with ``c`` clamped to [-1, 1]; ``ok`` is False
     where it was beyond 1 by more than ``slack``, or the point is inside the lateral offset's
-    cylinder by more than rounding. The angles' trigonometric calls are left out: a scan that
-    only looks for where an arm branch ends calls this alone."""
+    cylinder by more than rounding (LATERAL_ROUNDING of the size). The angles' trigonometric
+    calls are left out: a scan that only looks for where an arm branch ends calls this alone."""
     rho, xx, xy, c, disc = elbow_cosine(px, py, pz, Ld, front, t1_hint, K)
-    ok = disc >= -(1e-12 * K[L.SCALE]) ** 2
+    # (inside the cylinder by more than LATERAL_ROUNDING of the size, in distance)
+    b = K[L.B]
+    ok = disc >= 0.0 or math.sqrt(max(disc + b * b, 0.0)) >= abs(b) - LATERAL_ROUNDING * K[L.SCALE]
     if abs(c) > 1.0:
         if abs(c) > 1.0 + slack:
             ok = False

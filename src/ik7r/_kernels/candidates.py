@@ -14,6 +14,8 @@ from . import params as L
 from .answers import accept, on_shoulder_set, straight_damped, straight_split
 from .constants import (
     FOLD_WINDOW,
+    LATERAL_ROUNDING,
+    LATERAL_SHOULDER_DEVIATING,
     MAT_PSI,
     MAT_Q,
     NEAR_SINGULAR,
@@ -38,7 +40,7 @@ from .joints import (
 )
 from .poly import linear_system
 from .reduced import straight_family
-from .singular import fold_snap, near_shoulder, near_stretch
+from .singular import fold_snap, near_shoulder, near_stretch, straight_circle
 from .wrist import theta5_cs_of_d, theta5_of_bend
 
 
@@ -54,7 +56,7 @@ def wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, fil
     Q = mats[MAT_Q, :3, :3]
     q = ws[W_Q6:W_Q6 + 6]
     qq = ws[W_QQ:W_QQ + 6]  # q completed with a wrist solution
-    if K[L.DEVIATION] > 0.0 and t5 < STRAIGHT_SHOULDER:
+    if not straight_circle(K) and t5 < STRAIGHT_SHOULDER:  # (the wrist deviates: no circle)
         shoulder = near_shoulder(th, K)
         stretched = near_stretch(th, K)
         window = STRAIGHT_SHOULDER if shoulder or stretched else STRAIGHT_DEVIATING
@@ -74,7 +76,7 @@ def wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, fil
         count, exact = accept(qq, Td, K, out, count, mats, True)
         if exact:
             return count
-        if K[L.DEVIATION] == 0.0:
+        if straight_circle(K):
             for i in range(6):  # (the snap again: accept's failed polish moved it)
                 qq[i] = q[i]
             qq[4] = user_angle(4, 0.0, K)
@@ -83,10 +85,12 @@ def wrist_and_accept(th, t5, c5, s5, R07, Td, K, hint, has_hint, out, count, fil
             # root lay 2e-6 rad off, and only nearly straight shadows came back. Without one,
             # over the paper robot's and the offset members' 9,000 poses of edges.py, the paths
             # below gave the same solutions, and this polish cost the paper robot's nearly
-            # straight poses a quarter of their time)
+            # straight poses a quarter of their time. Always on a model whose arm deviates:
+            # its nominal arm misses the pose by the deviation, and accept does not polish a
+            # snap of a deviating model)
             shoulder = on_shoulder_set(qq, K)
-            if (shoulder or K[L.B] != 0.0) and straight_damped(qq, Td, K, hint, has_hint, mats,
-                                                                shoulder):
+            if (shoulder or K[L.B] != 0.0 or K[L.DEVIATION] > 0.0) and straight_damped(
+                    qq, Td, K, hint, has_hint, mats, shoulder):
                 count, exact = accept(qq, Td, K, out, count, mats, True)
                 if exact:
                     return count
@@ -164,7 +168,13 @@ def solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
                                           mats)
         return count
     s2 = r2 - b * b
-    if s2 < -(1e-9 * scale) ** 2:
+    # inside the cylinder of radius abs(b) about axis 1 the arm has no shoulder branch; on it (the
+    # shoulder set of an arm with a lateral offset) its two branches meet. Within the rounding
+    # of the root (LATERAL_ROUNDING, in distance: s2 is about 2 abs(b) times it) or, on a
+    # deviating model, within LATERAL_SHOULDER_DEVIATING (its exact solutions lie beside the
+    # cylinder), the centre is taken onto it: one merged branch
+    slack = (LATERAL_ROUNDING if K[L.DEVIATION] == 0.0 else LATERAL_SHOULDER_DEVIATING) * scale
+    if s2 < 0.0 and math.sqrt(r2) < abs(b) - slack:
         return count
     s = math.sqrt(max(s2, 0.0))
     bp = -K[L.EPS1] * b

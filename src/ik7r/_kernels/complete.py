@@ -92,7 +92,7 @@ from .poly import (
     residual_of,
 )
 from .reduced import dips_to_zero, other_wrists, partners
-from .scans import gap_near_misses, scan_fold, scan_shoulder, scan_theta5
+from .scans import gap_near_misses, lateral_crossings, scan_fold, scan_shoulder, scan_theta5
 from .singular import fold_snap, u_fold
 from .wrist import d_of_theta5, theta5_cs_of_d
 
@@ -364,6 +364,7 @@ def solve_into(Td, K, Bm, bnorm, hint, has_hint, out, filt, ws):
     count = scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
     if K[L.DEVIATION] > 0.0:
         count = gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+        count = lateral_crossings(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
         count = partners(Td, K, out, count, ws, mats)
         count = other_wrists(R07, Td, K, out, count, ws, mats)
     if folded:

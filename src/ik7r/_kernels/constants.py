@@ -156,6 +156,19 @@ SHOULDER_SWITCH_NEAR = 1e-3
 #: relative to the larger of the size and the line's d there (:func:`shoulder_offset`; this and
 #: the two windows below)
 SHOULDER_SCAN_DEVIATING = 2e-3
+#: ... and for an arm with a lateral offset b, whose shoulder set is the cylinder of radius abs(b)
+#: about axis 1 (the two shoulder branches meet there): a virtual centre this far inside it
+#: (relative to the size, in distance) is on it, one merged branch: the rounding of a root there
+#: (an exact member's centre came 1.7e-13 mm inside at its source's root, 6e-17 of its size, and
+#: the squared test it had, r^2 - b^2 against -(1e-9 of the size)^2, which that makes -7.6e-11,
+#: dropped the root: 77 sources of 16 members missed on the cylinder). Beyond it the branch is
+#: not defined (the fold scan's meetings of the branches are checked 1e-9 in sw beyond) ...
+LATERAL_ROUNDING = 1e-12
+#: ... and on a deviating model this far, its exact solutions lying beside the cylinder where the
+#: idealised centre falls inside it (0.07 and 0.13 mm inside on two hunted members); the polish
+#: takes the merged branch's candidates onto the exact model (see
+#: :func:`ik7r._kernels.candidates.solutions_at`)
+LATERAL_SHOULDER_DEVIATING = 2e-3
 #: ... where the nominal shoulder gap has a dip below SHOULDER_DIP (rad), the exact model's
 #: reduced residual in q1 is tracked SHOULDER_REACH (rad) each way from the dip's bottom, on
 #: SHOULDER_CELLS cells each way (see :func:`_shoulder_exact`; the IRB 5400's exact solutions

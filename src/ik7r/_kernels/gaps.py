@@ -16,7 +16,15 @@ import numpy as np
 
 from . import params as L
 from .arm import arm_cs, arm_params, arm_reach, elbow_cosine, shoulder_angle
-from .constants import DIP_EARLY, FOLD_AXIS_CLAMP, FOLD_AXIS_NEAR, FOLD_BELOW, FOLD_SPAN, SCAN_TINY
+from .constants import (
+    DIP_EARLY,
+    FOLD_AXIS_CLAMP,
+    FOLD_AXIS_NEAR,
+    FOLD_BELOW,
+    FOLD_SPAN,
+    LATERAL_ROUNDING,
+    SCAN_TINY,
+)
 from .jit import njit
 from .poly import brent_next, brent_start, brent_take, illinois_step, secant_point
 from .singular import d_near_range, u_fold
@@ -382,8 +390,8 @@ def _fold_arm(sw, p, a, front, K, t1_in, in_plane, reach):
             # the scaled virtual centre (nearly) on axis 1: _fold_axis_gap's
             return False, math.inf, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         disc = r2 - (u * b) ** 2
-        if disc < -(1e-12 * scale * u) ** 2:
-            return False, math.inf, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        if disc < 0.0 and math.sqrt(r2) < abs(u) * (abs(b) - LATERAL_ROUNDING * scale):
+            return False, math.inf, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0  # (inside the cylinder)
         rho = front * math.sqrt(max(disc, 0.0))  # u rho
         t1 = shoulder_angle(rho, hx, hy, u * bp)
     xx = rho - u * a1  # u X: the centre in the arm plane, from the shoulder

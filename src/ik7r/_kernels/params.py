@@ -53,6 +53,7 @@ POS_TOL = NOM + 18  # accepted position residual, robot length unit
 ROT_TOL = NOM + 19  # accepted rotation residual, rad
 NCHEB = NOM + 20  # degree of the residual polynomial (8 or 16)
 DEVIATION_EFFECT = NOM + 21  # how far the deviation moves a pose at most, in tolerances
+WRIST_EFFECT = NOM + 22  # the wrist's share of it: 0 where the straight wrist is a circle
 
 LIMITS = NOM + 24  # lower (6) then upper (6), rad, independent joints
 NDH = LIMITS + 12  # the nominal (idealised) DH table, same layout as DH
@@ -96,6 +97,7 @@ def pack(robot) -> np.ndarray:
     K[ROT_TOL] = ROTATION_TOLERANCE
     K[NCHEB] = 8 if f.zero_offsets else 16
     K[DEVIATION_EFFECT] = f.deviation_effect
+    K[WRIST_EFFECT] = f.wrist_effect
     K[LIMITS:LIMITS + 6] = robot.lower
     K[LIMITS + 6:LIMITS + 12] = robot.upper
     K[NDH:NDH + 28] = f.nominal_dh.reshape(-1)

@@ -16,7 +16,7 @@ import numpy as np
 
 from . import params as L
 from .answers import accept
-from .candidates import wrist_and_accept
+from .candidates import solutions_at, wrist_and_accept
 from .constants import (
     DIP_FLOOR,
     FOLD_BELOW,
@@ -96,7 +96,15 @@ from .gaps import (
 from .jit import njit
 from .joints import arm_frame, arm_may_match, filter_margin, with_fold_wrist, with_wrist
 from .reduced import reduced_scan
-from .singular import d_near_range, fold_snap, line_to_axis1, shoulder_offset, turn_scanned, u_fold
+from .singular import (
+    cylinder_crossings,
+    d_near_range,
+    fold_snap,
+    line_to_axis1,
+    shoulder_offset,
+    turn_scanned,
+    u_fold,
+)
 from .wrist import theta5_cs_of_u
 
 
@@ -259,6 +267,22 @@ def _least_slot(front):
     """Where in the work array :func:`_fold_splits` keeps the least shortfall of the shoulder
     branch ``front`` and its sw (read by :func:`_fold_beyond_reach`)."""
     return W_LEAST + (0 if front > 0.0 else 2)
+
+
+@njit
+def lateral_crossings(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """A deviating model with a lateral offset b: candidates where the line of virtual centres
+    crosses the cylinder of radius abs(b) about axis 1 (:func:`cylinder_crossings`; the arm's
+    shoulder set, its two shoulder branches merged there), at each d in range. Inside the
+    cylinder the idealised residual is a sum of squares (its shoulder branch imaginary): an
+    exact solution whose idealised centre falls just inside it leaves no root and, beside the
+    crossing, often no near miss either (a rounded member's source 3.5e-4 mm inside, its
+    polynomial's near misses 0.8 .. 1.8 farther in d; nothing was answered)."""
+    for d in cylinder_crossings(p, a, K):
+        if d_near_range(d, K):
+            count = solutions_at(min(K[L.DMAX], max(K[L.DMIN], d)), p, a, R07, Td, K, hint, has_hint,
+                                 out, count, filt, ws, mats)
+    return count
 
 
 @njit

@@ -3,8 +3,10 @@ line of virtual wrist centres (``p``, ``a``: frame 7's origin and axis in the ba
 
 Small predicates the scans share: the fold of a (nearly) 45 deg twist (``u_fold``,
 ``fold_snap``), the line's distance from axis 1 (``line_to_axis1``, ``shoulder_offset``),
-whether the whole turn of joint 1 is scanned there (``turn_scanned``), and whether an arm is near
-the shoulder set or has its elbow near stretched (``near_shoulder``, ``near_stretch``).
+whether the whole turn of joint 1 is scanned there (``turn_scanned``), where it crosses a
+lateral offset's cylinder (``cylinder_crossings``), whether an arm is near the shoulder set or
+has its elbow near stretched (``near_shoulder``, ``near_stretch``), and whether the model's
+straight wrist is a circle (``straight_circle``).
 """
 
 from __future__ import annotations
@@ -24,6 +26,17 @@ def fold_snap(K):
 
 
 @njit
+def straight_circle(K):
+    """Whether the model as written keeps axes 4 and 7 on one line at the straight wrist (its
+    wrist deviates from the mirror by no more than NEGLIGIBLE of the tolerances:
+    ``Family.wrist_effect`` 0), so that a straight wrist leaves only ``s4 q4 + s7 q7`` defined, a
+    circle of solutions: every family member, and a model that deviates in its arm alone (twists
+    written as 1.5708 rad). Only where the wrist itself deviates does the circle break into
+    isolated solutions (:func:`ik7r._kernels.reduced.straight_family`)."""
+    return K[L.WRIST_EFFECT] == 0.0
+
+
+@njit
 def turn_scanned(p, a, K):
     """Whether :func:`scan_shoulder` tracks the exact model over the whole turn of q1 for the
     line of virtual centres ``p - t a`` (:func:`_shoulder_turn`)."""
@@ -32,6 +45,25 @@ def turn_scanned(p, a, K):
     t, _ = line_to_axis1(p, a)
     d = t - K[L.D7]
     return d_near_range(d, K) and shoulder_offset(p, a, K) <= SHOULDER_EXACT_NEAR
+
+
+@njit
+def cylinder_crossings(p, a, K):
+    """The virtual offsets d at which the line of virtual centres ``p - t a`` crosses the
+    cylinder of radius abs(b) about axis 1 (an arm with a lateral offset b: its shoulder set,
+    where the two shoulder branches meet): a quadratic in t, (d1, d2), NaN for none (no
+    crossing, no lateral offset, or ``a`` along axis 1)."""
+    b = K[L.B]
+    qa = a[0] * a[0] + a[1] * a[1]
+    if b == 0.0 or qa < 1e-24:
+        return math.nan, math.nan
+    qb = -2.0 * (p[0] * a[0] + p[1] * a[1])
+    qc = p[0] * p[0] + p[1] * p[1] - b * b
+    disc = qb * qb - 4.0 * qa * qc
+    if disc < 0.0:
+        return math.nan, math.nan
+    q = -0.5 * (qb + math.copysign(math.sqrt(disc), qb))  # (the two roots without cancellation)
+    return q / qa - K[L.D7], (qc / q if q != 0.0 else math.nan) - K[L.D7]
 
 
 @njit

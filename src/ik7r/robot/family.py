@@ -141,6 +141,10 @@ class Family:
     #: a bound on how far the deviation moves any pose, in tolerances (position over the
     #: position tolerance, rotation over ROTATION_TOLERANCE; 0 for a member solved as one)
     deviation_effect: float = 0.0
+    #: the wrist's share of it (its twists, a4 .. a6, d5 and d6, the mirror offset): 0 when the
+    #: model as written keeps axes 4 and 7 on one line at the straight wrist, so that its straight
+    #: wrist leaves a circle of solutions (q4 against q7) like a member's, however its arm deviates
+    wrist_effect: float = 0.0
 
     @property
     def scale(self) -> float:
@@ -246,12 +250,18 @@ def family_of(dh: np.ndarray, sign: np.ndarray, coupling: tuple[float, float],
     turns = float(diff[:, 1].sum()) + abs(mirror_offset)  # (rad) and the lengths' (unit):
     moves = float(diff[:, [0, 2]].sum()) + turns * (size + abs(d[0]) + abs(d[1]) + abs(d[2]))
     effect = max(moves / position_tolerance(size), turns / ROTATION_TOLERANCE)
+    wrist_turns = float(diff[4:, 1].sum()) + abs(mirror_offset)  # (the wrist's rows alone)
+    wrist_moves = float(diff[4:, [0, 2]].sum()) + wrist_turns * (size + abs(d[0]) + abs(d[1]) + abs(d[2]))
+    wrist_effect = max(wrist_moves / position_tolerance(size), wrist_turns / ROTATION_TOLERANCE)
+    if wrist_effect <= NEGLIGIBLE:
+        wrist_effect = 0.0  # (a rounded arm: the straight wrist is still a circle; see Family)
     if effect <= NEGLIGIBLE:
         deviation = effect = 0.0  # no pose moves by more than NEGLIGIBLE of the tolerances: the member
     return Family(
         a1=float(a[1]), a2=float(a[2]), a3=float(a[3]), b=float(d[1] + d[2]), d1=float(d[0]),
         d4=float(d[3]), eps1=eps1, eps3=eps3, beta=float(beta), dw=float(dw), d7=float(d[6]),
         deviation=deviation, nominal_dh=nominal, dh=dh, coupling_offset=float(c), deviation_effect=effect,
+        wrist_effect=wrist_effect,
     )
 
 
