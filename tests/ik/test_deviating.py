@@ -1114,3 +1114,21 @@ def test_rounded_member_on_the_cylinder_of_the_lateral_offset(dh, q):
     sols = robot.ik_all(T)
     ref = reference_ik(robot, T, extra_starts=q[None])
     assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
+
+
+def test_urdf_with_its_right_angles_written_to_four_decimals(tmp_path):
+    """The same from a URDF as one is often written by hand or by a CAD export: the paper robot's
+    URDF with every ``rpy`` of 1.5707963267948966 written 1.5708. It loads as a model that
+    deviates in its arm alone (the straight wrist a circle), and its exactly straight poses are
+    answered: every source among the answers, none twice (it raised before, its output full)."""
+    text = ik7r.load_robot().to_urdf()
+    assert text.count("1.5707963267948966") >= 2
+    path = tmp_path / "paper_rounded.urdf"
+    path.write_text(text.replace("1.5707963267948966", "1.5708"))
+    robot = ik7r.load_robot(str(path))
+    assert robot.family.deviation > 0.0 and robot.family.wrist_effect == 0.0
+    Q = singular_joints(robot, np.random.default_rng(92), "straight", 10)
+    assert misses(robot, Q) == []
+    for q in Q[:4]:
+        T = robot.fk(q)
+        assert answered_twice(robot, robot.ik_all(T), T) == []
