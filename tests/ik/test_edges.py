@@ -763,3 +763,29 @@ def test_virtual_centre_on_the_cylinder_of_the_lateral_offset(dh, q):
     assert among(robot, sols, q, T)
     assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
     assert answered_twice(robot, sols, T) == []
+
+
+def test_mirror_pair_of_a_wrist_bent_by_the_straight_threshold():
+    """An exact 45 deg member with a lateral offset (hunt seed 651), the wrist bent by -1.0e-9
+    rad: its solution and the wrist's mirror (the split half a turn on, bent by +9.95e-10) are
+    two solutions, since a bend of 1e-9 still turns the tool by about 1.4e-9 rad, beyond the
+    tolerance. The mirror lay within STRAIGHT_EXACT (1e-9) of straight, so the source, with the
+    same arm and ``s4 q4 + s7 q7``, was taken for a shadow of its circle and dropped. Now two such
+    answers are one circle's only where the pose lies on the straight wrist's set (the straighter
+    one, made exactly straight, meets it, polished with the wrist held): the source and every
+    solution of the reference among the answers, none twice."""
+    dh = np.array([[0.0, 0.0, 527.0, 0.0], [288.0, math.pi / 2, 10.0, 0.0], [944.0, 0.0, -54.0, 0.0],
+                   [157.0, math.pi / 2, 1232.0, 0.0], [0.0, -math.pi / 4, 95.0, 0.0],
+                   [0.0, math.pi / 2, 95.0, 0.0], [0.0, -math.pi / 4, 81.0, 0.0]])
+    robot = ik7r.robot.Robot(name="member", dh=dh)
+    assert robot.family.deviation == 0.0
+    q = np.array([-0.9263292789659232, -2.8304374636805623, -1.6918050594594183, 0.19016123989402622,
+                  -1.0007963346936322e-09, -0.39539222809083574])
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    assert among(robot, sols, q, T)
+    mirror = sols[np.abs(wrap(sols[:, :3] - q[:3])).max(axis=1) < 1e-6]
+    assert len(mirror) == 2 and abs(wrap(abs(mirror[:, 3] - q[3]).max() - np.pi)) < 1e-2
+    ref = reference_ik(robot, T, extra_starts=q[None])
+    assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
+    assert answered_twice(robot, sols, T) == []

@@ -151,11 +151,11 @@ def _insert(q, out, count, Td, K, mats, shoulder):
     """:func:`add_answer`'s duplicate rules and the append (``shoulder``: ``q`` is on the shoulder set)."""
     for k in range(count):
         far = apart(out[k], q)
-        if far <= DUP_TOL or _same_straight(out[k], q, K):
+        if far <= DUP_TOL or _same_straight(out[k], q, Td, K, mats):
             if bend(q, K) <= STRAIGHT_EXACT < bend(out[k], K):
                 for i in range(6):
                     out[k, i] = q[i]
-                return _drop_straight_shadows(out, count, k, K)
+                return _drop_straight_shadows(out, count, k, Td, K, mats)
             return count
         if far < MERGE_WINDOW:
             # (scratch: the next free row, or when full the wrist's work matrix, free here)
@@ -375,23 +375,40 @@ def bend(q, K):
 
 
 @njit
-def _same_straight(q0, q1, K):
+def _same_straight(q0, q1, Td, K, mats):
     """Whether ``q0`` and ``q1`` are one straight-wrist solution of a model whose straight wrist
     is a circle (:func:`ik7r._kernels.singular.straight_circle`): one of
     them with theta5 within STRAIGHT_EXACT of 0, the other within DUP_TOL, the arm within
     DUP_TOL and the same ``s4 q4 + s7 q7`` (the only wrist angle defined there; the split is
-    free). So a nearly straight solution within DUP_TOL (every joint) of a point of an exactly
-    straight one's circle is that solution: where the FK is flat the circle has nearly straight
-    shadows, e.g. the wrist's two bends +-3e-8 with q4 half a turn apart beside axis 7 on axis 1."""
+    free), and the pose on the straight wrist's set (:func:`_circle_meets`). So a nearly
+    straight solution within DUP_TOL (every joint) of a point of an exactly straight one's circle
+    is that solution: where the FK is flat the circle has nearly straight shadows, e.g. the
+    wrist's two bends +-3e-8 with q4 half a turn apart beside axis 7 on axis 1."""
     if not straight_circle(K):
         return False
     b0 = bend(q0, K)
     if b0 > DUP_TOL:
         return False
     b1 = bend(q1, K)
-    if b1 > DUP_TOL or min(b0, b1) > STRAIGHT_EXACT:
+    if b1 > DUP_TOL or min(b0, b1) > STRAIGHT_EXACT or not _one_circle(q0, q1, K, DUP_TOL):
         return False
-    return _one_circle(q0, q1, K, DUP_TOL)
+    return apart(q0, q1) <= DUP_TOL or _circle_meets(q0 if b0 <= b1 else q1, Td, K, mats)
+
+
+@njit
+def _circle_meets(q0, Td, K, mats):
+    """Whether the pose lies on the straight wrist's set, so that the circle through ``q0`` (its
+    arm and ``s4 q4 + s7 q7``) is one of solutions: ``q0`` made exactly straight meets it, at once
+    or polished with the wrist held straight (a snap's rounding, a bend of 1e-12 rad, moves the
+    tool by about the tolerance). Within STRAIGHT_EXACT of straight a bend still turns the tool by
+    about its size times twice the twist's sine (a 45 deg member bent by 1e-9 rad: 1.4e-9 rad,
+    beyond the tolerance), and there the two bends +-1e-9 with the split half a turn apart are
+    two solutions, the wrist's mirror pair, not one circle's points."""
+    x = mats[MAT_WALK].reshape(16)[:6]
+    for i in range(6):
+        x[i] = q0[i]
+    x[4] = user_angle(4, 0.0, K)
+    return _exact(x, Td, K, mats) or polish(x, Td, K, 8, True, 0, 0.0, ALL_JOINTS ^ 0b10000)
 
 
 @njit
@@ -417,12 +434,12 @@ def _kept(out, keep, s):
 
 
 @njit
-def _drop_straight_shadows(out, count, k, K):
+def _drop_straight_shadows(out, count, k, Td, K, mats):
     """Drop from ``out[:count]`` the rows other than ``k`` that are one solution with the exactly
     straight ``out[k]`` (:func:`_same_straight`); returns the new count."""
     keep = 0
     for s in range(count):
-        if s == k or not _same_straight(out[k], out[s], K):
+        if s == k or not _same_straight(out[k], out[s], Td, K, mats):
             if s == k:
                 k = keep
             keep = _kept(out, keep, s)
