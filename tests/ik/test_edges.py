@@ -789,3 +789,32 @@ def test_mirror_pair_of_a_wrist_bent_by_the_straight_threshold():
     ref = reference_ik(robot, T, extra_starts=q[None])
     assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
     assert answered_twice(robot, sols, T) == []
+
+
+_FOLD_ON_THE_CYLINDER = [[2.1277845356230873, 0.14519245412761173, 3.037010352201115, 0.7163656783836347,
+                          3.0360888923912555, -2.242286575807504],
+                         [3.053830290553866, -0.9189172347740016, 0.6449372197451892, -1.3860545256976433,
+                          2.7717273377530685, -2.3905600111130205]]
+
+
+@pytest.mark.parametrize("q", _FOLD_ON_THE_CYLINDER)
+def test_fold_scan_root_where_the_shoulder_branches_meet(q):
+    """An exact 45 deg member with a small lateral offset (b = 10; hunt seed 644), the virtual
+    centre on the cylinder of radius b with the wrist 0.105 and 0.37 rad from fully bent, in the
+    fold scan's span (sw 0.053 and 0.18). There the fold gap's root lies where its two shoulder
+    branches meet, and the root's bracket ended 1e-10 (in sw) inside the cylinder, where neither
+    branch is defined: the candidate was dropped, and the source with it (the other of its pair,
+    0.2 rad away in q1, came back). A root within FOLD_MEET_SNAP of a meeting is now taken at the
+    meeting (``fold_meetings``, in closed form). The source and every solution of the
+    reference among the answers, none twice."""
+    dh = np.array([[0.0, 0.0, 277.0, 0.0], [29.0, math.pi / 2, -65.0, 0.0], [1047.0, 0.0, 75.0, 0.0],
+                   [90.0, math.pi / 2, 872.0, 0.0], [0.0, -math.pi / 4, 91.0, 0.0],
+                   [0.0, math.pi / 2, 91.0, 0.0], [0.0, -math.pi / 4, 59.0, 0.0]])
+    robot = ik7r.robot.Robot(name="member", dh=dh)
+    q = np.array(q)
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    assert among(robot, sols, q, T)
+    ref = reference_ik(robot, T, extra_starts=q[None])
+    assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
+    assert answered_twice(robot, sols, T) == []

@@ -169,6 +169,10 @@ LATERAL_ROUNDING = 1e-12
 #: takes the merged branch's candidates onto the exact model (see
 #: :func:`ik7r._kernels.candidates.solutions_at`)
 LATERAL_SHOULDER_DEVIATING = 2e-3
+#: A root of the fold gap this close (in sw) to where its two shoulder branches meet on the
+#: lateral offset's cylinder, but where neither is defined, is taken at the meeting (an exact
+#: 45 deg member's root 1e-10 inside, its bracket's end: the source missed)
+FOLD_MEET_SNAP = 1e-8
 #: ... where the nominal shoulder gap has a dip below SHOULDER_DIP (rad), the exact model's
 #: reduced residual in q1 is tracked SHOULDER_REACH (rad) each way from the dip's bottom, on
 #: SHOULDER_CELLS cells each way (see :func:`_shoulder_exact`; the IRB 5400's exact solutions

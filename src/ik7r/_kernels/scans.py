@@ -22,6 +22,7 @@ from .constants import (
     FOLD_BELOW,
     FOLD_BELOW_CELLS,
     FOLD_END_NEAR,
+    FOLD_MEET_SNAP,
     FOLD_NEAR,
     FOLD_REACH_DIP,
     FOLD_REACH_ISLAND,
@@ -772,6 +773,13 @@ def _fold_candidate(sw, p, a, front, elbow, R07, Td, K, hint, has_hint, out, cou
     from the orientation. ``t1``, ``in_plane``: the arm in that plane (:func:`_fold_axis_gap`)."""
     th = ws[W_TH:W_TH + NTH]
     _, ok = fold_gap(sw, p, a, front, elbow, K, th, t1, in_plane)
+    if not ok and not in_plane:
+        # a root where the shoulder branches meet (the lateral offset's cylinder): its bracket
+        # may end just inside, where no branch is defined; the meeting itself, in closed form
+        for m in fold_meetings(p, a, K):
+            if not ok and abs(m - sw) < FOLD_MEET_SNAP:
+                sw = m
+                _, ok = fold_gap(sw, p, a, front, elbow, K, th, t1, in_plane)
     if not ok:
         return count
     if filt >= 0 and not arm_may_match(th, filt, filter_margin(K), K):
