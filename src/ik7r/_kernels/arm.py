@@ -30,6 +30,16 @@ def shoulder_angle(rho, px, py, bp):
 
 
 @njit
+def inside_cylinder(disc, r2, b, slack):
+    """Whether a point at squared distance ``r2`` from axis 1 (``disc = r2 - b^2``) lies inside the
+    cylinder of radius abs(``b``) about it by more than ``slack`` (a distance): there the arm has
+    no shoulder branch; on it the two branches meet (:func:`shoulder_angle`). The test is on the
+    distance: ``disc`` is about 2 abs(b) times it, and a squared slack would drop a root's
+    rounding (LATERAL_ROUNDING)."""
+    return disc < 0.0 and math.sqrt(r2) < abs(b) - slack
+
+
+@njit
 def elbow_cosine(px, py, pz, Ld, front, t1_hint, K):
     """The triangle of :func:`arm_ik` for the point, before any clamp: (rho, xx, xy, c,
     disc) with ``rho`` the signed distance of the point from axis 1 in the arm plane, ``(xx,
@@ -57,9 +67,8 @@ def arm_reach(px, py, pz, Ld, front, t1_hint, K, slack=1e-12):
     cylinder by more than rounding (LATERAL_ROUNDING of the size). The angles' trigonometric
     calls are left out: a scan that only looks for where an arm branch ends calls this alone."""
     rho, xx, xy, c, disc = elbow_cosine(px, py, pz, Ld, front, t1_hint, K)
-    # (inside the cylinder by more than LATERAL_ROUNDING of the size, in distance)
     b = K[L.B]
-    ok = disc >= 0.0 or math.sqrt(max(disc + b * b, 0.0)) >= abs(b) - LATERAL_ROUNDING * K[L.SCALE]
+    ok = not inside_cylinder(disc, max(disc + b * b, 0.0), b, LATERAL_ROUNDING * K[L.SCALE])
     if abs(c) > 1.0:
         if abs(c) > 1.0 + slack:
             ok = False

@@ -12,6 +12,7 @@ import math
 
 from . import params as L
 from .answers import accept, on_shoulder_set, straight_damped, straight_split
+from .arm import inside_cylinder
 from .constants import (
     FOLD_WINDOW,
     LATERAL_ROUNDING,
@@ -170,11 +171,10 @@ def solutions_at(d, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
     s2 = r2 - b * b
     # inside the cylinder of radius abs(b) about axis 1 the arm has no shoulder branch; on it (the
     # shoulder set of an arm with a lateral offset) its two branches meet. Within the rounding
-    # of the root (LATERAL_ROUNDING, in distance: s2 is about 2 abs(b) times it) or, on a
-    # deviating model, within LATERAL_SHOULDER_DEVIATING (its exact solutions lie beside the
-    # cylinder), the centre is taken onto it: one merged branch
+    # of the root (LATERAL_ROUNDING) or, on a deviating model, within LATERAL_SHOULDER_DEVIATING
+    # (its exact solutions lie beside the cylinder), the centre is taken onto it: one merged branch
     slack = (LATERAL_ROUNDING if K[L.DEVIATION] == 0.0 else LATERAL_SHOULDER_DEVIATING) * scale
-    if s2 < 0.0 and math.sqrt(r2) < abs(b) - slack:
+    if inside_cylinder(s2, r2, b, slack):
         return count
     s = math.sqrt(max(s2, 0.0))
     bp = -K[L.EPS1] * b

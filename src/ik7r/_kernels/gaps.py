@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from . import params as L
-from .arm import arm_cs, arm_params, arm_reach, elbow_cosine, shoulder_angle
+from .arm import arm_cs, arm_params, arm_reach, elbow_cosine, inside_cylinder, shoulder_angle
 from .constants import (
     DIP_EARLY,
     FOLD_AXIS_CLAMP,
@@ -390,7 +390,7 @@ def _fold_arm(sw, p, a, front, K, t1_in, in_plane, reach):
             # the scaled virtual centre (nearly) on axis 1: _fold_axis_gap's
             return False, math.inf, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         disc = r2 - (u * b) ** 2
-        if disc < 0.0 and math.sqrt(r2) < abs(u) * (abs(b) - LATERAL_ROUNDING * scale):
+        if inside_cylinder(disc, r2, u * b, abs(u) * LATERAL_ROUNDING * scale):
             return False, math.inf, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0  # (inside the cylinder)
         rho = front * math.sqrt(max(disc, 0.0))  # u rho
         t1 = shoulder_angle(rho, hx, hy, u * bp)

@@ -247,12 +247,9 @@ def family_of(dh: np.ndarray, sign: np.ndarray, coupling: tuple[float, float],
     nominal[4:6, 2] = dw
     diff = np.abs(nominal[:, :3] - np.asarray(dh)[:, :3])
     deviation = float(max(diff.max(), abs(mirror_offset)))
-    turns = float(diff[:, 1].sum()) + abs(mirror_offset)  # (rad) and the lengths' (unit):
-    moves = float(diff[:, [0, 2]].sum()) + turns * (size + abs(d[0]) + abs(d[1]) + abs(d[2]))
-    effect = max(moves / position_tolerance(size), turns / ROTATION_TOLERANCE)
-    wrist_turns = float(diff[4:, 1].sum()) + abs(mirror_offset)  # (the wrist's rows alone)
-    wrist_moves = float(diff[4:, [0, 2]].sum()) + wrist_turns * (size + abs(d[0]) + abs(d[1]) + abs(d[2]))
-    wrist_effect = max(wrist_moves / position_tolerance(size), wrist_turns / ROTATION_TOLERANCE)
+    extent = size + abs(d[0]) + abs(d[1]) + abs(d[2])
+    effect = _effect(diff, mirror_offset, size, extent)
+    wrist_effect = _effect(diff[4:], mirror_offset, size, extent)  # (the wrist's rows alone)
     if wrist_effect <= NEGLIGIBLE:
         wrist_effect = 0.0  # (a rounded arm: the straight wrist is still a circle; see Family)
     if effect <= NEGLIGIBLE:
@@ -263,6 +260,16 @@ def family_of(dh: np.ndarray, sign: np.ndarray, coupling: tuple[float, float],
         deviation=deviation, nominal_dh=nominal, dh=dh, coupling_offset=float(c), deviation_effect=effect,
         wrist_effect=wrist_effect,
     )
+
+
+def _effect(diff: np.ndarray, mirror_offset: float, size: float, extent: float) -> float:
+    """How far differences ``diff`` (rows of abs(nominal - exact): length, twist, length) and the
+    mirror offset move any pose at most, in tolerances: the twists' and the offset's sum (rad),
+    and the lengths' sum plus that sum times the robot's ``extent`` (its unit), each over its
+    tolerance (``ROTATION_TOLERANCE``, :func:`position_tolerance` of ``size``)."""
+    turns = float(diff[:, 1].sum()) + abs(mirror_offset)
+    moves = float(diff[:, [0, 2]].sum()) + turns * extent
+    return max(moves / position_tolerance(size), turns / ROTATION_TOLERANCE)
 
 
 #: Names of the DH lengths (row i: a_{i-1}, d_i) in messages.
