@@ -818,3 +818,70 @@ def test_fold_scan_root_where_the_shoulder_branches_meet(q):
     ref = reference_ik(robot, T, extra_starts=q[None])
     assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
     assert answered_twice(robot, sols, T) == []
+
+
+def test_fold_scan_island_beside_a_grid_point_just_short():
+    """An exact 45 deg member without lateral offset written in mirrored frames (hunt seed 508,
+    ``--frames mirror``), the elbow stretched, the wrist 0.403 rad from fully bent (sw 0.2, near
+    the top of the fold scan's span). Shoulder branch +1 reaches there only over an island about
+    1e-3 wide in sw (0.1994 .. 0.2004), between two grid points of the fold scan where its elbow
+    falls short (by 66 and by 0.21), the second beside a grid point that reaches (past a hole of
+    0.25 at most): the grid saw no island, and four solutions (two pairs 0.004 rad apart in q1,
+    the source among them) were missed. A grid point just short beside one that reaches now has
+    its other cell searched for the least shortfall, and an island found there is scanned. The
+    source and every solution of the reference among the answers, none twice."""
+    dh = np.array([[0.0, 0.0, 489.0, 1.8064157758141308],
+                   [258.0, -math.pi / 2, 0.0, -0.07103490055616922],
+                   [-989.0, 0.0, -0.0, -2.725157094063946],
+                   [201.0, -math.pi / 2, -1239.0, -1.7287486241003835],
+                   [0.0, -math.pi / 4, 142.0, 2.2523473996986825],
+                   [0.0, math.pi / 2, 142.0, 2.4321163126540983],
+                   [0.0, -math.pi / 4, 36.0, 1.9568631573360424]])
+    sign = np.array([-1.0, -1.0, 1.0, -1.0, -1.0, -1.0, 1.0])
+    robot = ik7r.robot.Robot(name="member", dh=dh, joint_sign=sign,
+                             coupling=(-1.0, 4.68446371235278))
+    assert robot.family.deviation == 0.0 and robot.family.b == 0.0
+    q = np.array([2.250223808538413, 2.390139377013578, 1.3123444952946792, 2.2187953949544523,
+                  -1.292739820572283, -1.792463030614809])
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    dp, dr = pose_errors(robot.fk(sols), T)
+    assert dp.max() <= robot.position_tolerance and dr.max() <= robot.rotation_tolerance
+    assert among(robot, sols, q, T)
+    ref = reference_ik(robot, T, extra_starts=q[None])
+    assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
+    assert answered_twice(robot, sols, T) == []
+
+
+def test_fold_arm_whose_elbow_would_fold_back_beyond_itself():
+    """An exact 45 deg member in mirrored frames with a negative forearm ``d4`` = -1092 (hunt seed
+    508, ``--frames mirror``), the wrist 0.33 rad from fully bent (sw 0.164, in the fold scan's
+    span). There the forearm's virtual length ``d4 + d`` is small, and beyond sw 0.164 the
+    virtual centre is nearer the elbow's axis than the upper arm is long (``a2 > |X| + |v|``):
+    no arm reaches it, but the fold gap's arm tested only the other side of the triangle, so
+    its half angle clamped at 90 deg and both elbows answered one arm that misses the centre.
+    The grid saw no end of the branch, and the root at the end (the elbow folded onto itself,
+    one arm and its two wrists, the source among them) was missed. The fold gap's arm now ends
+    there too, and the end is a candidate as the stretched elbow's is. The source and every
+    solution of the reference among the answers, none twice."""
+    dh = np.array([[0.0, 0.0, 674.0, -3.132691474404622],
+                   [219.0, -math.pi / 2, 0.0, 2.8244663285024236],
+                   [-1165.0, 0.0, -0.0, -0.5471607205002224],
+                   [226.0, math.pi / 2, -1092.0, 2.0174260823802457],
+                   [0.0, math.pi / 4, 72.0, 2.7262042916151423],
+                   [0.0, -math.pi / 2, 72.0, -1.8174113501016953],
+                   [0.0, math.pi / 4, 105.0, 3.1377529292354054]])
+    sign = np.array([1.0, 1.0, 1.0, -1.0, -1.0, -1.0, -1.0])
+    robot = ik7r.robot.Robot(name="member", dh=dh, joint_sign=sign,
+                             coupling=(-1.0, 0.908792941513447))
+    assert robot.family.deviation == 0.0 and robot.family.b == 0.0
+    q = np.array([-1.2085598923138487, -1.7704158818269882, 1.8434513474547543, 0.5349452743161183,
+                  -0.7447359174209032, -0.16775469913983976])
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    dp, dr = pose_errors(robot.fk(sols), T)
+    assert dp.max() <= robot.position_tolerance and dr.max() <= robot.rotation_tolerance
+    assert among(robot, sols, q, T)
+    ref = reference_ik(robot, T, extra_starts=q[None])
+    assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
+    assert answered_twice(robot, sols, T) == []

@@ -60,15 +60,18 @@ def elbow_cosine(px, py, pz, Ld, front, t1_hint, K):
 
 
 @njit
-def arm_reach(px, py, pz, Ld, front, t1_hint, K, slack=1e-12):
+def arm_reach(px, py, pz, Ld, front, t1_hint, K, slack=1e-12, inside=-1.0):
     """Whether :func:`arm_ik` reaches the point (its ``ok``), without its angles: (rho, xx, xy,
     c, ok) as :func:`elbow_cosine` gives them, with ``c`` clamped to [-1, 1]; ``ok`` is False
     where it was beyond 1 by more than ``slack``, or the point is inside the lateral offset's
-    cylinder by more than rounding (LATERAL_ROUNDING of the size). The angles' trigonometric
-    calls are left out: a scan that only looks for where an arm branch ends calls this alone."""
+    cylinder by more than rounding (LATERAL_ROUNDING of the size), or by more than ``inside``
+    (a distance) if that is given (>= 0): a point inside by less is taken onto the cylinder, the
+    two shoulder branches merged there. The angles' trigonometric calls are left out: a scan that
+    only looks for where an arm branch ends calls this alone."""
     rho, xx, xy, c, disc = elbow_cosine(px, py, pz, Ld, front, t1_hint, K)
     b = K[L.B]
-    ok = not inside_cylinder(disc, max(disc + b * b, 0.0), b, LATERAL_ROUNDING * K[L.SCALE])
+    within = inside if inside >= 0.0 else LATERAL_ROUNDING * K[L.SCALE]
+    ok = not inside_cylinder(disc, max(disc + b * b, 0.0), b, within)
     if abs(c) > 1.0:
         if abs(c) > 1.0 + slack:
             ok = False
@@ -77,12 +80,12 @@ def arm_reach(px, py, pz, Ld, front, t1_hint, K, slack=1e-12):
 
 
 @njit
-def arm_cs(px, py, pz, Ld, front, elbow, t1_hint, K, slack=1e-12):
+def arm_cs(px, py, pz, Ld, front, elbow, t1_hint, K, slack=1e-12, inside=-1.0):
     """The cosines and sines of :func:`arm_ik`'s angles, from the same triangle without a
     trigonometric call: (c1, s1, c2, s2, c3, s3, ok). The scans evaluate the bend gap, which
-    needs only these, hundreds of times a pose."""
+    needs only these, hundreds of times a pose. ``inside``: as :func:`arm_reach` takes it."""
     a1, a2, a3, b, e1, e3, scale = arm_params(K)
-    rho, xx, xy, c, ok = arm_reach(px, py, pz, Ld, front, t1_hint, K, slack)
+    rho, xx, xy, c, ok = arm_reach(px, py, pz, Ld, front, t1_hint, K, slack, inside)
     if _off_axis1(px, py, K):
         # theta1 = atan2(v, u) (:func:`shoulder_angle`); |(u, v)| > 0 here
         bp = -e1 * b

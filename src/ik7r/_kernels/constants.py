@@ -167,7 +167,8 @@ LATERAL_ROUNDING = 1e-12
 #: ... and on a deviating model this far, its exact solutions lying beside the cylinder where the
 #: idealised centre falls inside it (0.07 and 0.13 mm inside on two hunted members); the polish
 #: takes the merged branch's candidates onto the exact model (see
-#: :func:`ik7r._kernels.candidates.solutions_at`)
+#: :func:`ik7r._kernels.candidates.solutions_at`, and the bend gap with the centre taken onto the
+#: cylinder, scanned where the line of centres runs inside it: ``scans._lateral_inside``)
 LATERAL_SHOULDER_DEVIATING = 2e-3
 #: A root of the fold gap this close (in sw) to where its two shoulder branches meet on the
 #: lateral offset's cylinder, but where neither is defined, is taken at the meeting (an exact

@@ -23,6 +23,7 @@ from .constants import (
     FOLD_BELOW,
     FOLD_SPAN,
     LATERAL_ROUNDING,
+    LATERAL_SHOULDER_DEVIATING,
     SCAN_TINY,
 )
 from .jit import njit
@@ -52,7 +53,7 @@ def _bend_centre(t5, p, a, K, t1_hint=0.0, in_plane=False):
 
 
 @njit
-def bend_gap(t5, p, a, front, elbow, K, th, t1_hint=0.0, in_plane=False, slack=1e-12):
+def bend_gap(t5, p, a, front, elbow, K, th, t1_hint=0.0, in_plane=False, slack=1e-12, inside=-1.0):
     """The bend gap at wrist angle ``t5`` >= 0 on the arm branch (``front``, ``elbow``: +-1):
     the angle between axis 4 of the arm that places the virtual centre of that bend and the
     tool's approach ``a``, minus the wrist's bend ``phi(t5)``; zero exactly at solutions.
@@ -64,11 +65,13 @@ def bend_gap(t5, p, a, front, elbow, K, th, t1_hint=0.0, in_plane=False, slack=1
     ``th[6]`` gets t5. ``in_plane``: theta1 is ``t1_hint`` (the virtual centre is taken in
     that arm plane: near axis 1 its direction from the axis is rounding noise). ``slack``:
     how far the arm may miss the centre (:func:`ik7r._kernels.arm.arm_ik`; the arm's cosines and
-    sines come from :func:`ik7r._kernels.arm.arm_cs`, without a trigonometric call)."""
+    sines come from :func:`ik7r._kernels.arm.arm_cs`, without a trigonometric call). ``inside``:
+    a virtual centre inside the lateral offset's cylinder by no more than this is taken onto it
+    (:func:`ik7r._kernels.arm.arm_reach`)."""
     x, d, px, py, pz, ok = _bend_centre(t5, p, a, K, t1_hint, in_plane)
     if not ok:
         return 0.0, False  # the fold of a 45 deg twist: the virtual centre is at infinity
-    c1, s1, c2, s2, c3, s3, ok = arm_cs(px, py, pz, K[L.D4] + d, front, elbow, t1_hint, K, slack)
+    c1, s1, c2, s2, c3, s3, ok = arm_cs(px, py, pz, K[L.D4] + d, front, elbow, t1_hint, K, slack, inside)
     if not ok:
         return 0.0, False
     th[0], th[1], th[2], th[3], th[4], th[5], th[6] = c1, c2, c3, s1, s2, s3, t5
@@ -184,7 +187,13 @@ def gap(t, p, a, front, elbow, K, th):
     ``front`` +-2 the fold gap of :func:`fold_gap` at ``sw = t`` on the branch (front / 2, elbow),
     with ``front`` 3 that of :func:`_fold_axis_gap` at theta1 = ``t``; with ``front`` +-4 not a
     gap but :func:`reach_excess` of the shoulder branch front / 4 (for :func:`gap_min`'s search
-    of an island; ``elbow`` unused)."""
+    of an island; ``elbow`` unused); with ``front`` +-5 the bend gap of the shoulder branch
+    front / 5 with a virtual centre inside the lateral offset's cylinder by no more than
+    LATERAL_SHOULDER_DEVIATING of the size taken onto it (both branches merged there: a deviating
+    model's solutions beside the cylinder, :func:`ik7r._kernels.scans.lateral_inside`)."""
+    if abs(front) == 5.0:
+        return bend_gap(t, p, a, 0.2 * front, elbow, K, th, 0.0, False, 1e-12,
+                        LATERAL_SHOULDER_DEVIATING * K[L.SCALE])
     if abs(front) == 2.0:
         return fold_gap(t, p, a, 0.5 * front, elbow, K, th)
     if front == 3.0:
@@ -407,7 +416,14 @@ def _fold_arm(sw, p, a, front, K, t1_in, in_plane, reach):
     dt = su * dd / (nx + nv)  # |X| - |v|
     s2 = a2 * a2 - dt * dt
     short = abs(dt) - a2
-    if s2 < -1e-12 * a2 * a2:
+    if nx + nv < a2 * abs(u):
+        # the triangle's other side: the elbow folded back beyond itself (a2 > |X| + |v|, where
+        # the forearm's virtual length d4 + d passes zero: a negative d4), which s2 does not see;
+        # the half angle below would clamp at 90 deg, both elbows one arm that misses the centre
+        short = a2 - (nx + nv) / abs(u)
+        if short > 1e-12 * a2 and not short <= reach:
+            return False, short, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    elif s2 < -1e-12 * a2 * a2:
         if not short <= reach:
             return False, short, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0  # the elbow does not reach
         s2 = 0.0

@@ -106,7 +106,7 @@ from .singular import (
     turn_scanned,
     u_fold,
 )
-from .wrist import theta5_cs_of_u
+from .wrist import theta5_cs_of_d, theta5_cs_of_u
 
 
 @njit
@@ -191,7 +191,11 @@ def _fold_splits(ta, tb, cells, front, p, a, R07, Td, K, hint, has_hint, out, co
       (``ws[W_LEAST]``: the least and its sw, per shoulder branch); below zero, the island of
       reach is a piece too. A neighbour across a meeting of the branches is not compared (the
       shortfall jumps there), and its cell is searched up to the meeting (an exact 45 deg
-      member: an island 1.6e-3 wide in sw in the cell before one, the source at its end).
+      member: an island 1.6e-3 wide in sw in the cell before one, the source at its end);
+    * where a grid point falls short by less than FOLD_REACH_DIP of the size next to one that
+      reaches (the branch's end between them), the least shortfall over its other cell (Brent);
+      below zero, that island is a piece (an exact 45 deg member in mirrored frames: an island
+      1e-3 wide in sw between points short by 66 and 0.21 mm, four solutions on it).
 
     Returns (count, the number of pieces)."""
     row = _short_row(front)
@@ -254,6 +258,17 @@ def _fold_splits(ta, tb, cells, front, p, a, R07, Td, K, hint, has_hint, out, co
                     split[2 * n] = branch_end(t, t_lo, p, a, front, 1.0, K, th)
                     split[2 * n + 1] = branch_end(t, t_hi, p, a, front, 1.0, K, th)
                     n += 1
+            elif s < near and (hi <= 0.0 < lo or lo <= 0.0 < hi) and n < FOLD_SPLIT_PIECES:
+                # (just short beside a neighbour that reaches, the branch's end between them: the
+                # cell on the other side may hold an island, which neither neighbour sees)
+                t_far = t_lo if hi <= 0.0 else t_hi
+                tm, sm = fold_short_min(min(t_far, t), max(t_far, t), p, a, 0.5 * front, K)
+                if sm <= 0.0:
+                    split[2 * n] = branch_end(tm, t_far, p, a, front, 1.0, K, th)
+                    split[2 * n + 1] = branch_end(tm, t, p, a, front, 1.0, K, th)
+                    if split[2 * n] > split[2 * n + 1]:
+                        split[2 * n], split[2 * n + 1] = split[2 * n + 1], split[2 * n]
+                    n += 1
             if s < least:
                 least = s
                 at = t
@@ -283,6 +298,56 @@ def lateral_crossings(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, ma
         if d_near_range(d, K):
             count = solutions_at(min(K[L.DMAX], max(K[L.DMIN], d)), p, a, R07, Td, K, hint, has_hint,
                                  out, count, filt, ws, mats)
+    return _lateral_inside(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+
+
+@njit
+def _lateral_inside(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
+    """The candidates of :func:`lateral_crossings` between the crossings, where the line of
+    virtual centres runs inside the cylinder: there the idealised arm has no branch and the
+    residual no root, yet the exact model may have a solution whose idealised centre lies
+    inside by about the deviation (members 0.027 and 0.038 mm off the family, the centre 0.07 and
+    0.013 mm inside, a wrist nearly straight or bent 0.38 rad: nothing answered, the idealised
+    arm's near misses 0.06 and 0.012 mm off the pose). The bend gap with the centre taken onto
+    the cylinder (``gap``'s front 5) on a grid of GAP_NEAR_CELLS over the stretch of theta5
+    inside: each sign change (refined) and each grid minimum of ``|gap|`` below GAP_NEAR_GRID
+    that Brent's minimiser takes below GAP_NEAR_DEPTH is completed with the wrist and polished
+    on the exact model."""
+    d1, d2 = cylinder_crossings(p, a, K)
+    if not (math.isfinite(d1) and math.isfinite(d2)):
+        return count
+    lo = max(min(d1, d2), K[L.DMIN])
+    hi = min(max(d1, d2), K[L.DMAX])
+    if not lo < hi:
+        return count
+    ta = theta5_cs_of_d(lo, K)[0]
+    tb = theta5_cs_of_d(hi, K)[0]
+    if u_fold(K) < FOLD_NEAR:  # (the fold span is the fold gap's, as in gap_near_misses)
+        tb = min(tb, theta5_cs_of_u(u_fold(K) + FOLD_SPAN, K)[0])
+    if not ta < tb:
+        return count
+    m = GAP_NEAR_CELLS
+    gs = ws[W_SCAN:W_SCAN + m + 1]
+    th = ws[W_TH:W_TH + NTH]
+    h = (tb - ta) / m
+    for elbow in (1.0, -1.0):
+        for i in range(m + 1):
+            g, ok = gap(ta + h * i, p, a, 5.0, elbow, K, th)
+            gs[i] = g if ok else np.nan
+        for i in range(m + 1):
+            g0, g1, g2 = gs[max(i - 1, 1 - i)], gs[i], gs[min(i + 1, 2 * m - 1 - i)]
+            t = math.nan
+            if i < m and g1 * gs[i + 1] < 0.0:  # (NaN fails the comparisons)
+                t = gap_root(ta + h * i, ta + h * (i + 1), g1, gs[i + 1], p, a, 5.0, elbow, K, th)
+            elif (abs(g1) < GAP_NEAR_GRID and g0 * g1 > 0.0 and g1 * g2 > 0.0
+                  and abs(g1) <= abs(g0) and abs(g1) <= abs(g2)):
+                tm, fm, _, okm = gap_min(ta + h * max(i - 1, 0), ta + h * min(i + 1, m), p, a, 5.0,
+                                         elbow, K, th)
+                if okm and fm < GAP_NEAR_DEPTH:
+                    t = tm
+            if math.isfinite(t):
+                count = _gap_candidate(t, p, a, 5.0, elbow, R07, Td, K, hint, has_hint, out, count,
+                                       filt, ws, mats)
     return count
 
 
@@ -860,6 +925,8 @@ def _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count
     th = ws[W_TH:W_TH + NTH]
     if front == 0.0:
         _, ok = shoulder_gap(t, p, a, elbow, K, th)  # the arm of the root, into th; theta5 th[6]
+    elif abs(front) == 5.0:
+        _, ok = gap(t, p, a, front, elbow, K, th)  # (the centre taken onto the lateral cylinder)
     else:
         # (theta1 from the seed where the virtual centre is on axis 1: the gap does not depend
         # on it when axis 7 is on axis 1 too, where the pose leaves q1 free)
