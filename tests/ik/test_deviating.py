@@ -1171,6 +1171,40 @@ def test_line_of_centres_inside_the_cylinder_of_the_lateral_offset(dh, q):
     assert answered_twice(robot, sols, T) == []
 
 
+_SMALL_LATERAL_DH = [[0.0, 0.0, 684.0, 0.0],  # a member with b = -2 mm deviating by 0.11 mm (seed 678)
+                     [124.0, 1.5707867095874581, 20.0, 0.0],
+                     [1079.0, -2.6158750931113386e-05, -22.0, 0.0],
+                     [65.0, 1.5708162666048324, 779.0, 0.0],
+                     [-0.11080832894519069, -0.6256796077811899, 145.03549024764777, -4.616842201593877e-05],
+                     [-0.04289193703129375, 1.2515675858743913, 144.96467256068237, 0.0],
+                     [-0.056562179596758626, -0.6256733742489452, 165.0, 0.0]]
+
+
+@pytest.mark.parametrize("q", [[2.117138909565342, 0.9518948102707685, -2.0033252253536693,
+                                2.6434023512666034, 0.46914390694357433, -2.256775895237789],
+                               [-0.6457571957743249, -1.2934636519090255, -1.4355227429074837,
+                                0.3082506337794806, 0.24296692401652242, 2.26073545926816]])
+def test_lateral_offset_as_small_as_the_deviation_at_the_shoulder_set(q):
+    """A deviating member (wrist offsets up to 0.11 mm) whose lateral offset is only 2 mm, the line
+    of virtual centres passing 2.1 and 2.0 mm from axis 1 (0.16 and 0.05 mm outside the cylinder
+    of radius abs(b)). There the deviation moves the centre about as far as the cylinder's
+    radius, the regime of the shoulder set without lateral offset, where the exact model is
+    tracked over the whole turn of q1; but the shoulder scans ran only without lateral offset, and
+    the source was missed. Now a deviating model whose lateral offset is within
+    SHOULDER_SCAN_DEVIATING of the size and whose line passes within SHOULDER_EXACT_NEAR of the
+    cylinder has the whole turn tracked too: the source and every solution of the reference among
+    the answers, every answer exact, none twice."""
+    robot = Robot(name="small_lateral", dh=np.array(_SMALL_LATERAL_DH))
+    assert robot.family.deviation > 0.0 and robot.family.b == -2.0
+    q = np.array(q)
+    assert misses(robot, q[None]) == []
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    ref = reference_ik(robot, T, extra_starts=q[None])
+    assert [x.tolist() for x in ref if not among(robot, sols, x, T, tol=SOURCE_TOL)] == []
+    assert answered_twice(robot, sols, T) == []
+
+
 _ROUNDED_ON_THE_CYLINDER = [  # rounded members with a lateral offset (hunt seed 643): DH, source
     ([[0.0, 0.0, 284.0, 0.0], [335.0, -math.pi / 2, 26.0, 0.0], [846.0, 0.0, -127.0, 0.0],
       [174.0, -math.pi / 2, 1162.0, 0.0], [0.0, -0.5468116546498234, 126.0, 0.0],

@@ -604,8 +604,21 @@ def scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     SHOULDER_NEAR_FOLD where that d lies in the fold scan's span; on a deviating model within
     SHOULDER_SCAN_DEVIATING, see :func:`shoulder_offset`):
     every solution from the bend gap in theta1 (:func:`shoulder_gap`) on a grid over the whole
-    turn, both elbow branches."""
+    turn, both elbow branches. A deviating model whose lateral offset is within
+    SHOULDER_SCAN_DEVIATING of the size, with the line passing within SHOULDER_EXACT_NEAR of
+    the cylinder of radius abs(b) (:func:`shoulder_offset`'s measure), is in the same regime
+    (the deviation moves the centre about as far as the cylinder's radius: a member with b = -2
+    mm and wrist offsets of 0.11 mm missed sources there): the exact model is tracked over the
+    whole turn of q1 (:func:`_shoulder_turn`, which starts from the arm the gap in theta1 gives
+    as if b were 0; the tracking is on the model as written)."""
     if K[L.B] != 0.0:
+        if K[L.DEVIATION] > 0.0 and a[0] * a[0] + a[1] * a[1] >= 1e-24:
+            t, r = line_to_axis1(p, a)
+            d = t - K[L.D7]
+            if (abs(K[L.B]) <= SHOULDER_SCAN_DEVIATING * K[L.SCALE] and d_near_range(d, K)
+                    and abs(r - abs(K[L.B])) <= SHOULDER_EXACT_NEAR * max(K[L.SCALE], abs(d))):
+                for elbow in (1.0, -1.0):
+                    count = _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats)
         return count
     if a[0] * a[0] + a[1] * a[1] < 1e-24:
         return count  # a along axis 1: P' is at one distance from it for every d
