@@ -1205,6 +1205,32 @@ def test_lateral_offset_as_small_as_the_deviation_at_the_shoulder_set(q):
     assert answered_twice(robot, sols, T) == []
 
 
+def test_two_roots_in_one_cell_of_the_straight_wrists_split():
+    """A rounded 45 deg member with a lateral offset whose wrist offsets are 0.05 mm (hunt seed
+    675, ``--deviate 0.05``), the wrist straight: along the split q4 the reduced residual has roots
+    at -2.103, -1.930 (the source) and -1.892, the last two under a hump of 4.7e-11, inside one
+    cell of the scan whose ends are -2.6e-10 and -1.1e-9: no sign change and no dip on the grid,
+    and the source was missed. A cell beside a sign change over which ``|r|`` grows to less than
+    REDUCED_STALL of what that root's slope makes it is now searched with the next cell for the
+    residual's turn toward the other sign: the source and every solution of the reference among
+    the answers, every answer exact, none twice."""
+    dh = np.array([[0.0, 0.0, 721.0, 0.0], [321.0, -1.5707794399064061, -21.0, 0.0],
+                   [1090.0, -2.4215302907813437e-05, -8.0, 0.0], [249.0, 1.57079539059618, 812.0, 0.0],
+                   [-0.04768242584535436, -0.7854147832194956, 96.97195082106975, 1.2664053945444606e-05],
+                   [0.0596359814209904, 1.5707848612028164, 96.99552785375266, 0.0],
+                   [-0.03674117075670337, -0.7853842666435407, 28.0, 0.0]])
+    robot = Robot(name="rounded45", dh=dh)
+    assert robot.family.deviation > 0.0 and robot.family.wrist_effect > 0.0
+    q = np.array([-0.7269879616664974, 2.435941115927805, -0.2555082138829703, -1.9280559503625305,
+                  -1.266405394551029e-05, -0.13546190881816145])
+    assert misses(robot, q[None]) == []
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    ref = reference_ik(robot, T, extra_starts=q[None])
+    assert [x.tolist() for x in ref if not among(robot, sols, x, T, tol=SOURCE_TOL)] == []
+    assert answered_twice(robot, sols, T) == []
+
+
 _ROUNDED_ON_THE_CYLINDER = [  # rounded members with a lateral offset (hunt seed 643): DH, source
     ([[0.0, 0.0, 284.0, 0.0], [335.0, -math.pi / 2, 26.0, 0.0], [846.0, 0.0, -127.0, 0.0],
       [174.0, -math.pi / 2, 1162.0, 0.0], [0.0, -0.5468116546498234, 126.0, 0.0],

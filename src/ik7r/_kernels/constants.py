@@ -320,6 +320,15 @@ DIP_SHARP = 0.1
 #: shallow minimum (generated(2): a pair of roots 0.015 rad apart under values -9.0e-8, -6.1e-8,
 #: -3.1e-7 of ``r``, ``|e|`` 3.9e-5, 1.4e-5, 5.9e-5).
 DIP_NEAR = 1e-4
+#: ... and a cell beside a sign change over which ``|r|`` grows to less than this fraction of
+#: what the root's slope (the sign change's secant) makes it is searched with the next cell for
+#: the residual's turn toward the other sign: a second pair of roots there (a rounded 45 deg
+#: member's straight wrist: roots 0.038 apart under a hump of 4.7e-11 in the cell after the
+#: next root, whose ends were -2.6e-10 and -1.1e-9, the secant's slope making 8.9e-9). On the
+#: straight wrist's split alone (``straight_family``): in q1 at the shoulder set stalls are
+#: everywhere, and searching them cost the IRB 5400's near-shoulder poses half their time again
+#: and found nothing over 27,000 poses
+REDUCED_STALL = 0.1
 REDUCED_ITERS = 4
 #: ... stopping before a step below this (rad; see :func:`_reduced_at`)
 REDUCED_SETTLE = 1e-5

@@ -40,6 +40,7 @@ from .constants import (
     REDUCED_ITERS,
     REDUCED_ROOT_TOL,
     REDUCED_SETTLE,
+    REDUCED_STALL,
     ROOT_END_STEP,
     SCAN_HEAD,
     SCAN_MEMO,
@@ -533,7 +534,8 @@ def _cell_kind(rs, es, k, kb, closed):
     error's norm; ``kb`` the point before ``k``, on a closed curve m - 1 for k = 0): 1 a sign
     change, 2 a dip of ``|e|`` toward zero without one (below DIP_NEAR, or by
     :func:`dips_to_zero`; in the first cell of a curve that is not closed, by
-    :func:`first_cell_dips`), 0 nothing."""
+    :func:`first_cell_dips`), 3 a stall beside a sign change (:func:`_stall`: searched with the
+    cell beyond it, see :func:`_stall_bracket`), 0 nothing."""
     ra = rs[k]
     rb = rs[k + 1]
     if not (math.isfinite(ra) and math.isfinite(rb)):
@@ -546,7 +548,38 @@ def _cell_kind(rs, es, k, kb, closed):
         return 2
     if k == 0 and not closed and len(rs) > 2 and math.isfinite(rs[2]) and first_cell_dips(ra, rb, rs[2]):
         return 2  # (a dip inside the first cell: see reduced_scan for its bracket)
+    if _stall(rs, k) != 0:
+        return 3
     return 0
+
+
+@njit
+def _stall(rs, k):
+    """Whether ``|r|`` stalls over cell ``k`` (ends of one sign) beside a sign change: +1 when the
+    cell before holds one and ``|r|`` at the cell's far end is below REDUCED_STALL of what the
+    change's secant slope makes it there (the residual turns back toward zero, and may cross it
+    twice in this cell or the next, unseen by the grid), -1 the same toward a change in the cell
+    after; else 0."""
+    m = len(rs) - 1
+    ra = abs(rs[k])
+    rb = abs(rs[k + 1])
+    if k >= 1 and math.isfinite(rs[k - 1]) and rs[k - 1] * rs[k] < 0.0:
+        if rb < REDUCED_STALL * (abs(rs[k - 1]) + 2.0 * ra):
+            return 1
+    if k + 2 <= m and math.isfinite(rs[k + 2]) and rs[k + 1] * rs[k + 2] < 0.0:
+        if ra < REDUCED_STALL * (abs(rs[k + 2]) + 2.0 * rb):
+            return -1
+    return 0
+
+
+@njit
+def _stall_bracket(rs, k):
+    """The grid points (lo, hi) bracketing the search of a stalled cell ``k`` (:func:`_stall`):
+    the cell and the one beyond it, away from the sign change."""
+    m = len(rs) - 1
+    if _stall(rs, k) > 0:
+        return k, min(k + 2, m)
+    return max(k - 1, 0), k + 1
 
 
 @njit
@@ -665,6 +698,8 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
         rb = rs[k + 1]
         kb = k - 1 if k > 0 else m - 1  # (the point before; k = 0 only on a closed curve)
         kind = _cell_kind(rs, es, k, kb, closed)
+        if kind == 3 and j != 3:
+            continue  # (a stall is searched on the straight wrist's split alone: see REDUCED_STALL)
         if kind == 0 or _scan_seen(memo, n, j, v0, v1, m, qs, kind, k, kb):
             continue
         if kind == 1:
@@ -699,8 +734,16 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
                 qt[i] = qs[k, i]
             sgn = 1.0 if ra > 0.0 else -1.0
             # the bottom of the signed residual (|e| would stop at a root), by Brent's minimiser,
-            # from the point before (the first cell's dip, which has none, inside the cell)
+            # from the point before (the first cell's dip, which has none, inside the cell; a
+            # stall, over the cell and the one beyond it)
             lo, r_lo = (k, ra) if k == 0 and not closed else (k - 1, rs[kb])
+            if kind == 3:
+                lo, hi = _stall_bracket(rs, k)
+                r_lo = rs[lo]
+                for i in range(6):
+                    qt[i] = qs[lo, i]
+                vb = v0 + (v1 - v0) * hi / m
+                rb = rs[hi]
             v_lo = v0 + (v1 - v0) * lo / m
             st, x = brent_start(v_lo, vb)
             for _ in range(200):
@@ -719,6 +762,8 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
                 # wrist, whose two wrist solutions that close are one
                 settle = math.pi - bend(qm, K) < FOLD_WINDOW
                 for vx, rx in ((v_lo, r_lo), (vb, rb)):
+                    if not rx * rm < 0.0:
+                        continue  # (a stall's far end may be past a root already: no bracket)
                     for i in range(6):
                         qt[i] = qm[i]
                     _reduced_root(qt, j, min(vx, vm), max(vx, vm), rx if vx < vm else rm,
