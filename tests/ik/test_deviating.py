@@ -1231,6 +1231,33 @@ def test_two_roots_in_one_cell_of_the_straight_wrists_split():
     assert answered_twice(robot, sols, T) == []
 
 
+def test_shoulder_set_of_a_robot_whose_wrist_offsets_are_negative():
+    """A member written in mirrored frames with negative wrist offsets (d5 = d6 = -77), its wrist
+    twists rounded to 0.01 deg (1.2e-4 rad off; hunt seed 509, ``--frames mirror``), the line of
+    virtual centres 0.019 mm from axis 1 at d = -74.7: its range of d is negative, [-89.0, -73.6],
+    and the shoulder scans' window, written ``0.98 DMIN <= d <= 1.02 DMAX``, narrowed it to
+    [-87.2, -75.1] instead of widening it: the exact model was not tracked over the turn of q1,
+    and a pair 0.065 rad apart in q1 (with the other wrist of one) was missed, the source among
+    them. Each end is now widened by 2 % of its own magnitude: the source and every solution of
+    the reference among the answers, every answer exact, none twice."""
+    dh = np.array([[0.0, 0.0, 479.0, 3.061132975072854], [288.0, -math.pi / 2, 0.0, 0.7010987605261222],
+                   [978.0, 0.0, -0.0, 2.303485546782116], [-121.0, math.pi / 2, -1093.0, -1.4550809973876726],
+                   [0.0, 0.29897490086662865, -77.0, -0.4885176576332128],
+                   [0.0, -0.5977752688080579, -77.0, 0.17296212887263807],
+                   [0.0, 0.29897490086662865, -161.0, -1.684242728174528]])
+    robot = Robot(name="mirrored", dh=dh, joint_sign=np.array([-1.0, 1.0, -1.0, -1.0, -1.0, 1.0, 1.0]),
+                  coupling=(1.0, 0.31555552876057474))
+    assert robot.family.deviation > 0.0 and robot.family.d_range[1] < 0.0
+    q = np.array([-2.9019914851823323, -2.776820628093194, -2.968931822622767, 0.8378647620544664,
+                  0.12788948426517388, 0.2880607616021793])
+    assert misses(robot, q[None]) == []
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    ref = reference_ik(robot, T, extra_starts=q[None])
+    assert [x.tolist() for x in ref if not among(robot, sols, x, T, tol=SOURCE_TOL)] == []
+    assert answered_twice(robot, sols, T) == []
+
+
 _ROUNDED_ON_THE_CYLINDER = [  # rounded members with a lateral offset (hunt seed 643): DH, source
     ([[0.0, 0.0, 284.0, 0.0], [335.0, -math.pi / 2, 26.0, 0.0], [846.0, 0.0, -127.0, 0.0],
       [174.0, -math.pi / 2, 1162.0, 0.0], [0.0, -0.5468116546498234, 126.0, 0.0],

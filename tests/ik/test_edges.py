@@ -885,3 +885,37 @@ def test_fold_arm_whose_elbow_would_fold_back_beyond_itself():
     ref = reference_ik(robot, T, extra_starts=q[None])
     assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
     assert answered_twice(robot, sols, T) == []
+
+
+def test_fold_arm_hole_between_two_grid_points_that_reach():
+    """An exact 45 deg member in mirrored frames with negative wrist offsets (d5 = d6 = -66; hunt
+    seed 510, ``--frames mirror``), the elbow folded onto itself and the wrist 0.32 rad from fully
+    bent. Shoulder branch +1's fold gap has a hole 3e-3 wide in sw (0.1575 .. 0.1605) where the
+    centre is nearer the elbow's axis than the upper arm is long, between two grid points of the
+    fold scan that reach; its four solutions (two arms, each with its two wrists) lie at the hole's
+    ends. Ending the branch there (the test above) and measuring only the other side of the
+    triangle in its shortfall lost them: the grid saw both ends reach, and the refinement of the
+    sign change across the cell landed in the hole. The shortfall is now the nearer side's, so
+    the fold scan's search for holes finds this one and takes its sides as candidates: the
+    source and every solution of the reference among the answers, none twice."""
+    dh = np.array([[0.0, 0.0, 164.0, -2.4115214274805647],
+                   [125.0, -math.pi / 2, 0.0, 2.067691564837682],
+                   [1072.0, 0.0, -0.0, -1.3206906449841092],
+                   [210.0, -math.pi / 2, 1059.0, 0.8227482093901269],
+                   [0.0, math.pi / 4, -66.0, 0.34574972482007665],
+                   [0.0, -math.pi / 2, -66.0, -2.1666517334257605],
+                   [0.0, math.pi / 4, 62.0, 1.7378243362107537]])
+    sign = np.array([1.0, 1.0, -1.0, -1.0, 1.0, -1.0, 1.0])
+    robot = ik7r.robot.Robot(name="member", dh=dh, joint_sign=sign,
+                             coupling=(1.0, -1.8209020086056837))
+    assert robot.family.deviation == 0.0 and robot.family.b == 0.0
+    q = np.array([2.863790175952689, 3.089693691516544, 0.5007205026206449, 1.6753924479974982,
+                  2.479354462641079, -0.18900833344666657])
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    dp, dr = pose_errors(robot.fk(sols), T)
+    assert dp.max() <= robot.position_tolerance and dr.max() <= robot.rotation_tolerance
+    assert among(robot, sols, q, T)
+    ref = reference_ik(robot, T, extra_starts=q[None])
+    assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
+    assert answered_twice(robot, sols, T) == []

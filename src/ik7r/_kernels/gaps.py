@@ -416,11 +416,14 @@ def _fold_arm(sw, p, a, front, K, t1_in, in_plane, reach):
     dt = su * dd / (nx + nv)  # |X| - |v|
     s2 = a2 * a2 - dt * dt
     short = abs(dt) - a2
-    if nx + nv < a2 * abs(u):
+    if u != 0.0:
         # the triangle's other side: the elbow folded back beyond itself (a2 > |X| + |v|, where
-        # the forearm's virtual length d4 + d passes zero: a negative d4), which s2 does not see;
-        # the half angle below would clamp at 90 deg, both elbows one arm that misses the centre
-        short = a2 - (nx + nv) / abs(u)
+        # the forearm's virtual length d4 + d passes zero: a negative d4), which s2 does not see
+        # (the half angle below would clamp at 90 deg, both elbows one arm that misses the
+        # centre); the shortfall is the nearer side's, so that the fold scan's search for holes
+        # between grid points that reach (_fold_splits) sees it come near
+        short = max(short, a2 - (nx + nv) / abs(u))
+    if nx + nv < a2 * abs(u):
         if short > 1e-12 * a2 and not short <= reach:
             return False, short, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     elif s2 < -1e-12 * a2 * a2:

@@ -69,8 +69,12 @@ def cylinder_crossings(p, a, K):
 @njit
 def d_near_range(d, K):
     """Whether ``d`` is within 2 % of the robot's range of d (the shoulder scans' window: a
-    deviating model's solutions there may come from a nominal d just beyond the range)."""
-    return 0.98 * K[L.DMIN] <= d <= 1.02 * K[L.DMAX]
+    deviating model's solutions there may come from a nominal d just beyond the range). Each
+    end is widened by 2 % of its own magnitude: with negative wrist offsets (``d5 = d6 < 0``, a
+    robot written in mirrored frames) the range is negative, and ``0.98 DMIN .. 1.02 DMAX``
+    narrowed it instead (a rounded member's shoulder set, its line of centres 0.019 mm from axis
+    1 at d = -74.7 in [-89.0, -73.6], was not scanned: three sources missed)."""
+    return K[L.DMIN] - 0.02 * abs(K[L.DMIN]) <= d <= K[L.DMAX] + 0.02 * abs(K[L.DMAX])
 
 
 @njit
