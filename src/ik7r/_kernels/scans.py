@@ -322,6 +322,8 @@ def _lateral_inside(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
         return count
     ta = theta5_cs_of_d(lo, K)[0]
     tb = theta5_cs_of_d(hi, K)[0]
+    if ta > tb:  # (negative wrist offsets: d runs from KW = DMAX down as theta5 grows)
+        ta, tb = tb, ta
     if u_fold(K) < FOLD_NEAR:  # (the fold span is the fold gap's, as in gap_near_misses)
         tb = min(tb, theta5_cs_of_u(u_fold(K) + FOLD_SPAN, K)[0])
     if not ta < tb:
