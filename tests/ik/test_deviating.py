@@ -31,13 +31,15 @@ from ik7r.robot import Robot
 SOURCE_TOL = 1e-6
 
 
-def assert_complete_once(robot, q, at_least):
-    """The source ``q`` among the answers of its pose (:func:`misses`), the reference's solutions
-    (at least ``at_least`` of them) all among them, and no two answers one solution."""
+def assert_complete_once(robot, q, at_least=0, from_source=False):
+    """The source ``q`` among the answers of its pose (:func:`misses`: every answer exact), the
+    reference's solutions (at least ``at_least`` of them; ``from_source``: the source one of its
+    starts) all among them, and no two answers one solution."""
+    q = np.asarray(q, float)
     assert misses(robot, q[None]) == []
     T = robot.fk(q)
     sols = robot.ik_all(T)
-    ref = reference_ik(robot, T)
+    ref = reference_ik(robot, T, extra_starts=q[None] if from_source else None)
     assert len(ref) >= at_least
     assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
     assert answered_twice(robot, sols, T) == []
@@ -1163,12 +1165,7 @@ def test_line_of_centres_inside_the_cylinder_of_the_lateral_offset(dh, q):
     robot = Robot(name="lateral", dh=np.array(dh))
     assert robot.family.deviation > 0.0 and robot.family.b != 0.0
     q = np.array(q)
-    assert misses(robot, q[None]) == []
-    T = robot.fk(q)
-    sols = robot.ik_all(T)
-    ref = reference_ik(robot, T, extra_starts=q[None])
-    assert [x.tolist() for x in ref if not among(robot, sols, x, T, tol=SOURCE_TOL)] == []
-    assert answered_twice(robot, sols, T) == []
+    assert_complete_once(robot, q, from_source=True)
 
 
 _SMALL_LATERAL_DH = [[0.0, 0.0, 684.0, 0.0],  # a member with b = -2 mm deviating by 0.11 mm (seed 678)
@@ -1197,12 +1194,7 @@ def test_lateral_offset_as_small_as_the_deviation_at_the_shoulder_set(q):
     robot = Robot(name="small_lateral", dh=np.array(_SMALL_LATERAL_DH))
     assert robot.family.deviation > 0.0 and robot.family.b == -2.0
     q = np.array(q)
-    assert misses(robot, q[None]) == []
-    T = robot.fk(q)
-    sols = robot.ik_all(T)
-    ref = reference_ik(robot, T, extra_starts=q[None])
-    assert [x.tolist() for x in ref if not among(robot, sols, x, T, tol=SOURCE_TOL)] == []
-    assert answered_twice(robot, sols, T) == []
+    assert_complete_once(robot, q, from_source=True)
 
 
 def test_two_roots_in_one_cell_of_the_straight_wrists_split():
@@ -1223,12 +1215,7 @@ def test_two_roots_in_one_cell_of_the_straight_wrists_split():
     assert robot.family.deviation > 0.0 and robot.family.wrist_effect > 0.0
     q = np.array([-0.7269879616664974, 2.435941115927805, -0.2555082138829703, -1.9280559503625305,
                   -1.266405394551029e-05, -0.13546190881816145])
-    assert misses(robot, q[None]) == []
-    T = robot.fk(q)
-    sols = robot.ik_all(T)
-    ref = reference_ik(robot, T, extra_starts=q[None])
-    assert [x.tolist() for x in ref if not among(robot, sols, x, T, tol=SOURCE_TOL)] == []
-    assert answered_twice(robot, sols, T) == []
+    assert_complete_once(robot, q, from_source=True)
 
 
 def test_shoulder_set_of_a_robot_whose_wrist_offsets_are_negative():
@@ -1250,12 +1237,7 @@ def test_shoulder_set_of_a_robot_whose_wrist_offsets_are_negative():
     assert robot.family.deviation > 0.0 and robot.family.d_range[1] < 0.0
     q = np.array([-2.9019914851823323, -2.776820628093194, -2.968931822622767, 0.8378647620544664,
                   0.12788948426517388, 0.2880607616021793])
-    assert misses(robot, q[None]) == []
-    T = robot.fk(q)
-    sols = robot.ik_all(T)
-    ref = reference_ik(robot, T, extra_starts=q[None])
-    assert [x.tolist() for x in ref if not among(robot, sols, x, T, tol=SOURCE_TOL)] == []
-    assert answered_twice(robot, sols, T) == []
+    assert_complete_once(robot, q, from_source=True)
 
 
 _INSIDE_THE_CYLINDER_MIRRORED = [  # mirrored, d5 = d6 < 0 (hunt seed 513): DH, signs, coupling, source
@@ -1293,13 +1275,12 @@ def test_line_of_centres_inside_the_cylinder_of_a_mirrored_member(dh, sign, coup
     robot = Robot(name="mirrored", dh=np.array(dh), joint_sign=np.array(sign), coupling=coupling)
     assert robot.family.deviation > 0.0 and robot.family.b != 0.0 and robot.family.d_range[1] < 0.0
     q = np.array(q)
-    assert misses(robot, q[None]) == []
-    T = robot.fk(q)
-    sols = robot.ik_all(T)
-    assert answered_twice(robot, sols, T) == []
     if dh == _INSIDE_THE_CYLINDER_MIRRORED[1][0]:
-        ref = reference_ik(robot, T, extra_starts=q[None])
-        assert [x.tolist() for x in ref if not among(robot, sols, x, T, tol=SOURCE_TOL)] == []
+        assert_complete_once(robot, q, from_source=True)
+    else:
+        assert misses(robot, q[None]) == []
+        T = robot.fk(q)
+        assert answered_twice(robot, robot.ik_all(T), T) == []
 
 
 @pytest.mark.xfail(strict=True, reason="the partner of a pair 0.007 rad apart in q1 beside the cylinder "

@@ -101,6 +101,20 @@ def assert_reference_answered(robot, q, T, sols, n):
     assert len(ref) == n and len(sols) == len(ref)
 
 
+def assert_complete(robot, q):
+    """``ik_all`` at the pose of ``q``: every answer exact (position and rotation), the source and
+    every solution of the reference among the answers, none answered twice."""
+    q = np.asarray(q, float)
+    T = robot.fk(q)
+    sols = robot.ik_all(T)
+    dp, dr = pose_errors(robot.fk(sols), T)
+    assert dp.max() <= robot.position_tolerance and dr.max() <= robot.rotation_tolerance
+    assert among(robot, sols, q, T)
+    ref = reference_ik(robot, T, extra_starts=q[None])
+    assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
+    assert answered_twice(robot, sols, T) == []
+
+
 @pytest.fixture(scope="module")
 def paper():
     return ik7r.load_robot()
@@ -754,15 +768,7 @@ def test_virtual_centre_on_the_cylinder_of_the_lateral_offset(dh, q):
     same test). Every solution of the reference, and the source, among the answers; each exact."""
     robot = ik7r.robot.Robot(name="lateral", dh=np.array(dh))
     assert robot.family.deviation == 0.0 and robot.family.b != 0.0
-    q = np.array(q)
-    T = robot.fk(q)
-    sols = robot.ik_all(T)
-    dp, dr = pose_errors(robot.fk(sols), T)
-    assert dp.max() <= robot.position_tolerance and dr.max() <= robot.rotation_tolerance
-    ref = reference_ik(robot, T, extra_starts=q[None])
-    assert among(robot, sols, q, T)
-    assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
-    assert answered_twice(robot, sols, T) == []
+    assert_complete(robot, q)
 
 
 def test_mirror_pair_of_a_wrist_bent_by_the_straight_threshold():
@@ -843,14 +849,7 @@ def test_fold_scan_island_beside_a_grid_point_just_short():
     assert robot.family.deviation == 0.0 and robot.family.b == 0.0
     q = np.array([2.250223808538413, 2.390139377013578, 1.3123444952946792, 2.2187953949544523,
                   -1.292739820572283, -1.792463030614809])
-    T = robot.fk(q)
-    sols = robot.ik_all(T)
-    dp, dr = pose_errors(robot.fk(sols), T)
-    assert dp.max() <= robot.position_tolerance and dr.max() <= robot.rotation_tolerance
-    assert among(robot, sols, q, T)
-    ref = reference_ik(robot, T, extra_starts=q[None])
-    assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
-    assert answered_twice(robot, sols, T) == []
+    assert_complete(robot, q)
 
 
 def test_fold_arm_whose_elbow_would_fold_back_beyond_itself():
@@ -877,14 +876,7 @@ def test_fold_arm_whose_elbow_would_fold_back_beyond_itself():
     assert robot.family.deviation == 0.0 and robot.family.b == 0.0
     q = np.array([-1.2085598923138487, -1.7704158818269882, 1.8434513474547543, 0.5349452743161183,
                   -0.7447359174209032, -0.16775469913983976])
-    T = robot.fk(q)
-    sols = robot.ik_all(T)
-    dp, dr = pose_errors(robot.fk(sols), T)
-    assert dp.max() <= robot.position_tolerance and dr.max() <= robot.rotation_tolerance
-    assert among(robot, sols, q, T)
-    ref = reference_ik(robot, T, extra_starts=q[None])
-    assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
-    assert answered_twice(robot, sols, T) == []
+    assert_complete(robot, q)
 
 
 def test_fold_arm_hole_between_two_grid_points_that_reach():
@@ -911,11 +903,4 @@ def test_fold_arm_hole_between_two_grid_points_that_reach():
     assert robot.family.deviation == 0.0 and robot.family.b == 0.0
     q = np.array([2.863790175952689, 3.089693691516544, 0.5007205026206449, 1.6753924479974982,
                   2.479354462641079, -0.18900833344666657])
-    T = robot.fk(q)
-    sols = robot.ik_all(T)
-    dp, dr = pose_errors(robot.fk(sols), T)
-    assert dp.max() <= robot.position_tolerance and dr.max() <= robot.rotation_tolerance
-    assert among(robot, sols, q, T)
-    ref = reference_ik(robot, T, extra_starts=q[None])
-    assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
-    assert answered_twice(robot, sols, T) == []
+    assert_complete(robot, q)

@@ -103,6 +103,7 @@ from .singular import (
     fold_snap,
     line_to_axis1,
     shoulder_offset,
+    small_lateral_turn,
     turn_scanned,
     u_fold,
 )
@@ -341,8 +342,7 @@ def _lateral_inside(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
             t = math.nan
             if i < m and g1 * gs[i + 1] < 0.0:  # (NaN fails the comparisons)
                 t = gap_root(ta + h * i, ta + h * (i + 1), g1, gs[i + 1], p, a, 5.0, elbow, K, th)
-            elif (abs(g1) < GAP_NEAR_GRID and g0 * g1 > 0.0 and g1 * g2 > 0.0
-                  and abs(g1) <= abs(g0) and abs(g1) <= abs(g2)):
+            elif _grid_dip(g0, g1, g2):
                 tm, fm, _, okm = gap_min(ta + h * max(i - 1, 0), ta + h * min(i + 1, m), p, a, 5.0,
                                          elbow, K, th)
                 if okm and fm < GAP_NEAR_DEPTH:
@@ -410,15 +410,23 @@ def gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
                                 count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint,
                                                        has_hint, out, count, filt, ws, mats)
                     continue
-                if not (abs(g1) < GAP_NEAR_GRID and g0 * g1 > 0.0 and g1 * g2 > 0.0
-                        and abs(g1) <= abs(g0) and abs(g1) <= abs(g2)):
-                    continue  # (NaN, a branch end, fails the comparisons)
+                if not _grid_dip(g0, g1, g2):
+                    continue
                 tm, fm, gm, okm = gap_min(top * max(i - 1, 0) / m, top * min(i + 1, m) / m, p,
                                            a, front, elbow, K, th)
                 if okm and fm < GAP_NEAR_DEPTH and gm * g1 > 0.0:
                     count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint, has_hint, out,
                                            count, filt, ws, mats)
     return count
+
+
+@njit
+def _grid_dip(g0, g1, g2):
+    """Whether the grid value ``g1`` of a gap, between ``g0`` and ``g2`` of its sign, is a least
+    ``|gap|`` below GAP_NEAR_GRID: a near miss for :func:`gap_near_misses` and
+    :func:`_lateral_inside` to minimise (NaN, a branch end, fails the comparisons)."""
+    return (abs(g1) < GAP_NEAR_GRID and g0 * g1 > 0.0 and g1 * g2 > 0.0
+            and abs(g1) <= abs(g0) and abs(g1) <= abs(g2))
 
 
 @njit
@@ -606,21 +614,15 @@ def scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     SHOULDER_NEAR_FOLD where that d lies in the fold scan's span; on a deviating model within
     SHOULDER_SCAN_DEVIATING, see :func:`shoulder_offset`):
     every solution from the bend gap in theta1 (:func:`shoulder_gap`) on a grid over the whole
-    turn, both elbow branches. A deviating model whose lateral offset is within
-    SHOULDER_SCAN_DEVIATING of the size, with the line passing within SHOULDER_EXACT_NEAR of
-    the cylinder of radius abs(b) (:func:`shoulder_offset`'s measure), is in the same regime
-    (the deviation moves the centre about as far as the cylinder's radius: a member with b = -2
-    mm and wrist offsets of 0.11 mm missed sources there): the exact model is tracked over the
-    whole turn of q1 (:func:`_shoulder_turn`, which starts from the arm the gap in theta1 gives
-    as if b were 0; the tracking is on the model as written)."""
+    turn, both elbow branches. A deviating model whose lateral offset is as small as the
+    deviation's reach (:func:`small_lateral_turn`; a member with b = -2 mm and wrist offsets of
+    0.11 mm missed sources there) has the exact model tracked over the whole turn of q1
+    (:func:`_shoulder_turn`, which starts from the arm the gap in theta1 gives as if b were 0;
+    the tracking is on the model as written)."""
     if K[L.B] != 0.0:
-        if K[L.DEVIATION] > 0.0 and a[0] * a[0] + a[1] * a[1] >= 1e-24:
-            t, r = line_to_axis1(p, a)
-            d = t - K[L.D7]
-            if (abs(K[L.B]) <= SHOULDER_SCAN_DEVIATING * K[L.SCALE] and d_near_range(d, K)
-                    and abs(r - abs(K[L.B])) <= SHOULDER_EXACT_NEAR * max(K[L.SCALE], abs(d))):
-                for elbow in (1.0, -1.0):
-                    count = _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats)
+        if small_lateral_turn(p, a, K):
+            for elbow in (1.0, -1.0):
+                count = _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats)
         return count
     if a[0] * a[0] + a[1] * a[1] < 1e-24:
         return count  # a along axis 1: P' is at one distance from it for every d

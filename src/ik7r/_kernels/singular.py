@@ -14,7 +14,14 @@ from __future__ import annotations
 import math
 
 from . import params as L
-from .constants import FOLD_SNAP, FOLD_WINDOW, SHOULDER_DEVIATING, SHOULDER_EXACT_NEAR, STRETCH_DEVIATING
+from .constants import (
+    FOLD_SNAP,
+    FOLD_WINDOW,
+    SHOULDER_DEVIATING,
+    SHOULDER_EXACT_NEAR,
+    SHOULDER_SCAN_DEVIATING,
+    STRETCH_DEVIATING,
+)
 from .jit import njit
 
 
@@ -39,12 +46,30 @@ def straight_circle(K):
 @njit
 def turn_scanned(p, a, K):
     """Whether :func:`scan_shoulder` tracks the exact model over the whole turn of q1 for the
-    line of virtual centres ``p - t a`` (:func:`_shoulder_turn`)."""
+    line of virtual centres ``p - t a`` (:func:`_shoulder_turn`) without lateral offset (with a
+    small one: :func:`small_lateral_turn`)."""
     if K[L.B] != 0.0 or K[L.DEVIATION] == 0.0 or a[0] * a[0] + a[1] * a[1] < 1e-24:
         return False
     t, _ = line_to_axis1(p, a)
     d = t - K[L.D7]
     return d_near_range(d, K) and shoulder_offset(p, a, K) <= SHOULDER_EXACT_NEAR
+
+
+@njit
+def small_lateral_turn(p, a, K):
+    """Whether a deviating model's lateral offset is as small as the deviation's reach
+    (``abs(b)`` within SHOULDER_SCAN_DEVIATING of the size) with the line of virtual centres
+    ``p - t a`` within SHOULDER_EXACT_NEAR of the cylinder of radius ``abs(b)`` (the measure of
+    :func:`shoulder_offset`, from the cylinder instead of the axis) at a d in range: the regime of
+    the shoulder set without lateral offset, where :func:`scan_shoulder` tracks the exact model
+    over the whole turn of q1 as well."""
+    b = K[L.B]
+    if b == 0.0 or K[L.DEVIATION] == 0.0 or a[0] * a[0] + a[1] * a[1] < 1e-24:
+        return False
+    t, r = line_to_axis1(p, a)
+    d = t - K[L.D7]
+    return (abs(b) <= SHOULDER_SCAN_DEVIATING * K[L.SCALE] and d_near_range(d, K)
+            and abs(r - abs(b)) <= SHOULDER_EXACT_NEAR * max(K[L.SCALE], abs(d)))
 
 
 @njit
