@@ -1218,6 +1218,52 @@ def test_two_roots_in_one_cell_of_the_straight_wrists_split():
     assert_complete_once(robot, q, from_source=True)
 
 
+def test_shoulder_valley_longer_than_the_dip_centred_scans_reach():
+    """A deviating member without lateral offset whose wrist offsets are 0.13 mm (hunt seed 674,
+    ``--deviate 0.1``), near the shoulder set. The nominal shoulder gap dips at q1 = 0.499, and
+    the exact model's reduced residual, tracked SHOULDER_REACH (0.4 rad) each way from there,
+    stays within 2e-5 of zero to the scan's end, where one sheet has its roots at 0.134 and
+    -0.070 (the source), 0.37 and 0.57 rad from the bottom. The scan of the whole turn, from
+    q1 = -pi, had both wrist signs on one sheet far from any solution (the error above 1 over
+    most of the turn), and the source was missed. A dip-centred scan that ends with the error
+    still below DIP_NEAR now goes on by its reach again: the source and every solution of the
+    reference among the answers, every answer exact, none twice."""
+    dh = np.array([[0.0, 0.0, 7.0, 0.0], [371.0, 1.5708407758309983, 0.0, 0.0],
+                   [1180.0, 6.44762788809955e-08, -0.0, 0.0], [200.0, 1.5707707011980128, 931.0, 0.0],
+                   [0.13148747847596456, -0.3041794869810325, 125.07029438864159, -3.6434775780579035e-05],
+                   [-0.08556474231425104, 0.6084487257694503, 125.04123466606723, 0.0],
+                   [0.08455739674732304, -0.3042079490364708, 155.0, 0.0]])
+    robot = Robot(name="valley", dh=dh)
+    assert robot.family.deviation > 0.0 and robot.family.b == 0.0
+    q = np.array([-0.06974006587553427, -0.936784928378489, -0.8435348841008095, -1.6686573899918526,
+                  -0.45253585282306164, -0.1526982181789811])
+    assert_complete_once(robot, q, from_source=True)
+
+
+def test_shoulder_windows_widen_with_the_deviations_reach(irb):
+    """A 45 deg member without lateral offset that deviates about twice as far as the IRB 5400
+    (wrist offsets up to 0.14 mm; hunt seed 679, ``--deviate 0.1``: its ``deviation_effect`` is
+    3.1e-4 of its size, the IRB 5400's 1.45e-4), near the shoulder set: the line of virtual
+    centres passes 1.76 mm (5.8e-4 of the size) from axis 1, just beyond SHOULDER_EXACT_FAR, so no
+    dip of the nominal shoulder gap had the exact model scanned beside it, and a pair of exact
+    solutions 1.9 rad in q1 from any other (the idealised model's nearest point misses the pose by
+    0.27 mm) was missed, the source among them. The deviating models' shoulder windows now widen
+    in proportion to the deviation's reach beyond the IRB 5400's: the source and every solution
+    of the reference among the answers, every answer exact, none twice."""
+    dh = np.array([[0.0, 0.0, 15.0, 0.0], [74.0, -1.5707511139448551, 0.0, 0.0],
+                   [1325.0, 4.31413096529029e-05, -0.0, 0.0], [47.0, 1.5708043422745568, 1231.0, 0.0],
+                   [0.07163498696770249, -0.7854164444267322, 128.0456795970153, 4.195771127595647e-05],
+                   [0.06203636086227441, 1.5707839304499012, 127.97717825783128, 0.0],
+                   [0.14157660862034688, -0.7854202411489004, 103.0, 0.0]])
+    robot = Robot(name="wider", dh=dh)
+    f = robot.family
+    assert f.deviation > 0.0 and f.b == 0.0
+    assert f.deviation_effect / f.scale > 2.0 * irb.family.deviation_effect / irb.family.scale
+    q = np.array([1.971415422112936, 2.180696427247952, 0.37998098949764403, 1.6783969963296554,
+                  -0.3141000976650825, 1.3793172095668078])
+    assert_complete_once(robot, q, from_source=True)
+
+
 def test_shoulder_set_of_a_robot_whose_wrist_offsets_are_negative():
     """A member written in mirrored frames with negative wrist offsets (d5 = d6 = -77), its wrist
     twists rounded to 0.01 deg (1.2e-4 rad off; hunt seed 509, ``--frames mirror``), the line of

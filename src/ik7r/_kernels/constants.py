@@ -181,6 +181,12 @@ FOLD_MEET_SNAP = 1e-8
 SHOULDER_DIP = 0.1
 SHOULDER_REACH = 0.4
 SHOULDER_CELLS = 8
+#: ... and where such a scan ends with the error's norm still below DIP_NEAR, in the dip's
+#: valley, its residual crossing zero over the last cell or falling to less than half toward it,
+#: it goes on by as much again, up to SHOULDER_VALLEY_END (rad) from the bottom: a member
+#: whose wrist offsets are 0.13 mm had a sheet's roots at 0.134 and -0.070 (the source), 0.37
+#: and 0.57 rad from the bottom, the error 1.6e-5 at the reach and 2e-3 only 0.6 rad beyond it
+SHOULDER_VALLEY_END = math.pi
 #: ... where the line of virtual centres passes this close (relative to the robot's size, or to
 #: its d there where that is larger) to axis 1 (1.0 mm on the IRB 5400, whose such clusters
 #: were measured within 0.6 mm); out to SHOULDER_EXACT_FAR the reach shrinks as
@@ -193,6 +199,12 @@ SHOULDER_CELLS = 8
 #: lie far beyond any dip's reach.
 SHOULDER_EXACT_NEAR = 3e-4
 SHOULDER_EXACT_FAR = 5e-4
+#: ... these windows (and SHOULDER_SCAN_DEVIATING) were measured on models whose deviation moves
+#: a pose by at most this much of their size (the family's ``deviation_effect`` in tolerances:
+#: the IRB 5400 1.45e-4, the rounded robots 1.47e-4); on a model that deviates further they widen
+#: in proportion (:func:`shoulder_offset`): a member whose deviation reaches 3.1e-4 had an exact
+#: solution 1.9 rad in q1 from any other, at a nominal dip with the line 5.8e-4 from axis 1
+SHOULDER_EFFECT_REF = 1.5e-4
 #: ... and where no arm of the turn reaches the virtual centre (the elbow stretched or folded,
 #: within the deviation of the exact model's reach), the whole turn is tracked from the nearest
 #: arm of the first that misses it by less than this in the elbow's cosine (rounded_b45: a
@@ -456,7 +468,7 @@ _W, WORK_SIZE = _offsets(
     SCAN=SCAN_GRID + 1, SUB=2 * (SCAN_PIECES + FOLD_SPLIT_PIECES), FAM=4 * NFAMILIES, NFAM=1,
     PAIR=2 * (SCAN_GRID + 1), SHORT=2 * (SCAN_GRID + 1), SPLIT=2 * FOLD_SPLIT_PIECES, LEAST=4,
     RSCAN=SCAN_MEMO * SCAN_SLOT, NRSCAN=1, SDIP=2 * SHOULDER_DIPS, NSDIP=1,
-    STR=3 * NSTRETCHED, NSTR=1,
+    STR=3 * NSTRETCHED, NSTR=1, SEND=9,
 )
 W_MATS, W_P, W_A, W_TH, W_Q6, W_QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"], _W["QQ"]
 W_BLO, W_BHI, W_BSURE, W_FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
@@ -468,6 +480,7 @@ W_SPLIT, W_LEAST = _W["SPLIT"], _W["LEAST"]
 W_RSCAN, W_NRSCAN = _W["RSCAN"], _W["NRSCAN"]
 W_SDIP, W_NSDIP = _W["SDIP"], _W["NSDIP"]
 W_STR, W_NSTR = _W["STR"], _W["NSTR"]
+W_SEND = _W["SEND"]  # (the last reduced scan's last grid point, its |e|, r there and before: reduced_scan)
 
 
 # the one angle wrap, to (-pi, pi], and the exact reduction under it (ik7r.geometry.rotations)

@@ -63,6 +63,7 @@ from .constants import (
     W_P,
     W_QQ,
     W_RSCAN,
+    W_SEND,
     W_STR,
     W_TH,
     wrap,
@@ -642,7 +643,8 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
     (polished) on the exact forward kinematics and added. A cell an earlier scan of the pose
     refined from the same points is not refined again (:func:`_scan_seen`). On return
     ``start`` holds the grid point whose wrist is the least bent (see
-    :func:`straight_family`)."""
+    :func:`straight_family`), and ``ws[W_SEND:W_SEND + 9]`` the last grid point, its ``|e|``
+    (inf where Gauss-Newton failed there) and the residual at the last two points (nan there)."""
     T = np.empty((4, 4))
     J = np.empty((6, 6))
     A = np.empty((6, 6))
@@ -778,6 +780,11 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
     if m == REDUCED_GRID and joined < 0:
         _scan_keep(memo, n, j, v0, v1, m, qs, rs, es, closed)
         ws[W_NRSCAN] = n + 1
+    for i in range(6):
+        ws[W_SEND + i] = qs[m, i]
+    ws[W_SEND + 6] = es[m]
+    ws[W_SEND + 7] = rs[m - 1]
+    ws[W_SEND + 8] = rs[m]
     least = math.inf
     for k in range(m + 1):
         t5 = bend(qs[k], K)

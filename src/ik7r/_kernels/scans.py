@@ -19,6 +19,7 @@ from .answers import accept
 from .candidates import solutions_at, wrist_and_accept
 from .constants import (
     DIP_FLOOR,
+    DIP_NEAR,
     FOLD_BELOW,
     FOLD_BELOW_CELLS,
     FOLD_END_NEAR,
@@ -59,6 +60,7 @@ from .constants import (
     SHOULDER_SWITCH_NEAR,
     SHOULDER_TURN_BEND,
     SHOULDER_TURN_SLACK,
+    SHOULDER_VALLEY_END,
     TWO_PI,
     W_LEAST,
     W_NSDIP,
@@ -67,6 +69,7 @@ from .constants import (
     W_QQ,
     W_SCAN,
     W_SDIP,
+    W_SEND,
     W_SHORT,
     W_SPLIT,
     W_SUB,
@@ -704,7 +707,9 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
     """The exact model's reduced residual in q1 (:func:`reduced_scan`) tracked from the
     nominal arm of ``th`` (made into ``ws`` and ``mats`` by :func:`arm_frame`) with its wrist of
     either sign, from its q1 over ``span_a`` and then ``span_b`` (rad, user q1; 0: no scan), on
-    ``cells`` cells each."""
+    ``cells`` cells each. A scan shorter than the whole turn that ends inside its valley with roots
+    that may go on (:func:`_valley_goes_on`) goes on by its span again, up to SHOULDER_VALLEY_END
+    from its start."""
     Q = mats[MAT_Q, :3, :3]
     q = ws[W_Q6:W_Q6 + 6]
     qq = ws[W_QQ:W_QQ + 6]
@@ -718,7 +723,26 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
             # (the start into qq: reduced_scan reads it once, before it adds anything)
             with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
             count = reduced_scan(qq, 0, v0, v0 + span, cells, Td, K, out, count, ws, mats)
+            v = v0 + span
+            while (abs(v - v0) + abs(span) <= SHOULDER_VALLEY_END + 1e-12
+                   and _valley_goes_on(ws[W_SEND + 6], ws[W_SEND + 7], ws[W_SEND + 8])):
+                for i in range(6):
+                    qq[i] = ws[W_SEND + i]
+                count = reduced_scan(qq, 0, v, v + span, cells, Td, K, out, count, ws, mats)
+                v += span
     return count
+
+
+@njit
+def _valley_goes_on(e_end, r_before, r_end):
+    """Whether a dip-centred scan in q1 that ends with the error's norm ``e_end`` and the
+    residual ``r_before``, ``r_end`` at its last two points ends inside the dip's valley with
+    roots that may go on beyond it: ``e_end`` below DIP_NEAR, and the residual crossed zero over
+    the last cell or fell to less than half toward it. (``|e|`` alone goes on for a scan in five
+    of the IRB 5400's near-shoulder poses, and found nothing more there.)"""
+    if not (e_end < DIP_NEAR and math.isfinite(r_before) and math.isfinite(r_end)):
+        return False
+    return r_before * r_end <= 0.0 or abs(r_end) < 0.5 * abs(r_before)
 
 
 @njit

@@ -18,6 +18,7 @@ from .constants import (
     FOLD_SNAP,
     FOLD_WINDOW,
     SHOULDER_DEVIATING,
+    SHOULDER_EFFECT_REF,
     SHOULDER_EXACT_NEAR,
     SHOULDER_SCAN_DEVIATING,
     STRETCH_DEVIATING,
@@ -69,7 +70,7 @@ def small_lateral_turn(p, a, K):
     t, r = line_to_axis1(p, a)
     d = t - K[L.D7]
     return (abs(b) <= SHOULDER_SCAN_DEVIATING * K[L.SCALE] and d_near_range(d, K)
-            and abs(r - abs(b)) <= SHOULDER_EXACT_NEAR * max(K[L.SCALE], abs(d)))
+            and abs(r - abs(b)) <= SHOULDER_EXACT_NEAR * max(K[L.SCALE], abs(d)) * shoulder_widening(K))
 
 
 @njit
@@ -118,9 +119,19 @@ def shoulder_offset(p, a, K):
     """The line of virtual centres' distance from axis 1 (``a`` not along it) relative to the
     larger of the robot's size and the distance d of its closest point from the wrist: how far
     a deviating model's virtual centre moves is the deviation's lengths plus d times its angles,
-    and near the fully bent wrist of a 45 deg twist d reaches 1,000 sizes and more."""
+    and near the fully bent wrist of a 45 deg twist d reaches 1,000 sizes and more; and over
+    :func:`shoulder_widening`, for a model that deviates further than those the windows were
+    measured on."""
     t, r = line_to_axis1(p, a)
-    return r / max(K[L.SCALE], abs(t - K[L.D7]))
+    return r / (max(K[L.SCALE], abs(t - K[L.D7])) * shoulder_widening(K))
+
+
+@njit
+def shoulder_widening(K):
+    """How much wider than measured the deviating models' shoulder windows are on this model: its
+    deviation's reach (``deviation_effect`` tolerances, over the size) over SHOULDER_EFFECT_REF,
+    at least 1."""
+    return max(1.0, K[L.DEVIATION_EFFECT] * K[L.POS_TOL] / (K[L.SCALE] * SHOULDER_EFFECT_REF))
 
 
 @njit
