@@ -61,16 +61,16 @@ def small_lateral_turn(p, a, K):
     """Whether a deviating model's lateral offset is as small as the deviation's reach
     (``abs(b)`` within SHOULDER_SCAN_DEVIATING of the size) with the line of virtual centres
     ``p - t a`` within SHOULDER_EXACT_NEAR of the cylinder of radius ``abs(b)`` (the measure of
-    :func:`shoulder_offset`, from the cylinder instead of the axis) at a d in range: the regime of
-    the shoulder set without lateral offset, where :func:`scan_shoulder` tracks the exact model
-    over the whole turn of q1 as well."""
+    :func:`shoulder_offset`, :func:`_relative_offset`, from the cylinder instead of the axis) at
+    a d in range: the regime of the shoulder set without lateral offset, where
+    :func:`scan_shoulder` tracks the exact model over the whole turn of q1 as well."""
     b = K[L.B]
     if b == 0.0 or K[L.DEVIATION] == 0.0 or a[0] * a[0] + a[1] * a[1] < 1e-24:
         return False
     t, r = line_to_axis1(p, a)
     d = t - K[L.D7]
     return (abs(b) <= SHOULDER_SCAN_DEVIATING * K[L.SCALE] and d_near_range(d, K)
-            and abs(r - abs(b)) <= SHOULDER_EXACT_NEAR * max(K[L.SCALE], abs(d)) * shoulder_widening(K))
+            and _relative_offset(abs(r - abs(b)), t, K) <= SHOULDER_EXACT_NEAR)
 
 
 @njit
@@ -119,19 +119,21 @@ def shoulder_offset(p, a, K):
     """The line of virtual centres' distance from axis 1 (``a`` not along it) relative to the
     larger of the robot's size and the distance d of its closest point from the wrist: how far
     a deviating model's virtual centre moves is the deviation's lengths plus d times its angles,
-    and near the fully bent wrist of a 45 deg twist d reaches 1,000 sizes and more; and over
-    :func:`shoulder_widening`, for a model that deviates further than those the windows were
-    measured on."""
+    and near the fully bent wrist of a 45 deg twist d reaches 1,000 sizes and more; and over how
+    much further the model deviates than those the windows were measured on
+    (:func:`_relative_offset`)."""
     t, r = line_to_axis1(p, a)
-    return r / (max(K[L.SCALE], abs(t - K[L.D7])) * shoulder_widening(K))
+    return _relative_offset(r, t, K)
 
 
 @njit
-def shoulder_widening(K):
-    """How much wider than measured the deviating models' shoulder windows are on this model: its
-    deviation's reach (``deviation_effect`` tolerances, over the size) over SHOULDER_EFFECT_REF,
-    at least 1."""
-    return max(1.0, K[L.DEVIATION_EFFECT] * K[L.POS_TOL] / (K[L.SCALE] * SHOULDER_EFFECT_REF))
+def _relative_offset(r, t, K):
+    """A distance ``r`` of the line of virtual centres at ``t`` (from axis 1, or from the lateral
+    offset's cylinder) in the measure of the deviating models' shoulder windows: over the larger
+    of the size and the line's d there, and over how much further than SHOULDER_EFFECT_REF of the
+    size the deviation reaches (``deviation_effect`` tolerances; at least 1)."""
+    widening = max(1.0, K[L.DEVIATION_EFFECT] * K[L.POS_TOL] / (K[L.SCALE] * SHOULDER_EFFECT_REF))
+    return r / (max(K[L.SCALE], abs(t - K[L.D7])) * widening)
 
 
 @njit
