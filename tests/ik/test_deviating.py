@@ -1264,6 +1264,60 @@ def test_shoulder_windows_widen_with_the_deviations_reach(irb):
     assert_complete_once(robot, q, from_source=True)
 
 
+ONE_CURVE_TURNS = {  # (DH table, source q)
+    # hunt seed 684 (the shoulder kinds, ``--lateral-shoulder --deviate 0.1``): wrist offsets up
+    # to 0.13 mm, the line of virtual centres 1e-5 of the size from axis 1; the source at
+    # q5 = 0.146, three more solutions on its arm, 0.025 rad beyond the reach of the dip at 1.22
+    "straight": (
+        [
+            [0.0, 0.0, 295.0, 0.0],
+            [131.0, -1.5708439734319861, 0.0, 0.0],
+            [1247.0, 3.6281161826985196e-05, -0.0, 0.0],
+            [35.0, -1.5707939123712713, 1186.0, 0.0],
+            [-0.03404256958265636, -0.46844760768698096, 98.94549722189107, 3.075454343279456e-05],
+            [0.10853374876465506, 0.9367169189657594, 99.05660226160524, 0.0],
+            [-0.13454331822473997, -0.46843127971971305, 62.0, 0.0],
+        ],
+        [0.7983393067513744, -0.6851047097588188, 2.818714598077948,
+         1.49783873636785, 0.14629832724082004, 2.938889132349141],
+    ),
+    # hunt seed 675 (all kinds, ``--lateral-shoulder --deviate 0.05``): wrist offsets up to
+    # 0.08 mm, the line 8.5e-6 of the size from axis 1; the wrist 0.14 rad from fully bent, a
+    # pair in q1 (2.4947 and the source, 2.5116) just beyond the reach of the dip at 2.918
+    "fully_bent": (
+        [
+            [0.0, 0.0, 490.0, 0.0],
+            [131.0, 1.5707835255101623, 0.0, 0.0],
+            [1391.0, 1.7414017043226954e-05, -0.0, 0.0],
+            [147.0, 1.5707762918036536, 1307.0, 0.0],
+            [0.013767752625663515, -0.32654982482462075, 90.96773851623959, -1.965565302631229e-05],
+            [-0.0008714459829460423, 0.6529218344068661, 90.97993998149828, 0.0],
+            [0.0783087218091599, -0.326557690921083, 97.0, 0.0],
+        ],
+        [2.5116022277907017, 0.7289110910425207, -3.0104744930617553,
+         -1.331839391614274, 3.002043368546046, 0.6457636533980491],
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(ONE_CURVE_TURNS))
+def test_shoulder_turn_of_both_wrist_signs_on_one_curve(case):
+    """Members without lateral offset whose line of virtual centres passes within 1e-5 of the
+    size of axis 1, so the exact model is tracked over the whole turn of q1, once per wrist
+    sign. In both the scans of the two signs ended on one curve, and the other branch was
+    tracked only by the dip-centred scans, whose reach ends short of the source. (In the first,
+    the nominal arm's wrist at the turn's start, bent by the nominal gap's theta5, 0.12 rad,
+    lies far from the arm's wrist target, bent by 2.34 rad: four damped steps a point took both
+    signs onto one branch, the error 1.4 at the first point.) Where both end on one curve the
+    turn is now tracked again, each scan keeping its wrist's sign from a settled start: the
+    source and every solution of the reference among the answers, every answer exact, none
+    twice."""
+    dh, q = ONE_CURVE_TURNS[case]
+    robot = Robot(name=case, dh=np.array(dh))
+    assert robot.family.deviation > 0.0 and robot.family.b == 0.0
+    assert_complete_once(robot, np.array(q), from_source=True)
+
+
 def test_shoulder_set_of_a_robot_whose_wrist_offsets_are_negative():
     """A member written in mirrored frames with negative wrist offsets (d5 = d6 = -77), its wrist
     twists rounded to 0.01 deg (1.2e-4 rad off; hunt seed 509, ``--frames mirror``), the line of

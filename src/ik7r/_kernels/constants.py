@@ -344,6 +344,19 @@ REDUCED_STALL = 0.1
 REDUCED_ITERS = 4
 #: ... stopping before a step below this (rad; see :func:`_reduced_at`)
 REDUCED_SETTLE = 1e-5
+#: ... and where the whole turns in q1 of both wrist signs end on one curve (their last points
+#: within CLOSED_TOL: from a start far from the least-squares point, or where the wrist passes
+#: straight, both took one branch and left the other to the dip-centred scans), the turn is
+#: tracked again once per sign (``reduced_scan(..., one_sign=True)``, see
+#: :func:`ik7r._kernels.scans._q1_scans`): its start first taken to its least-squares point (at
+#: most TURN_START_ROUNDS rounds of Gauss-Newton), a point whose wrist passes straight to the
+#: other sign taken onto the other wrist's branch (the two meet there, so the scans of the two
+#: signs together cover both branches), and a point that jumps off the branch (``|e|`` above
+#: DIP_NEAR and TRACK_JUMP times the point before's, Gauss-Newton not settled) solved again from
+#: its prediction with the wrist solved for the arm's target. Over 40 near-shoulder poses of the
+#: IRB 5400 that is 8 scans more to 144 whole turns.
+TURN_START_ROUNDS = 12
+TRACK_JUMP = 10.0
 #: ... and a root of it refined until the residual the last step would leave is below this
 #: (position over the size, and rad): the point is then within REDUCED_SETTLE of the solution
 #: in the other joints anyway, which the polish on the exact model takes to the last bits
@@ -468,7 +481,7 @@ _W, WORK_SIZE = _offsets(
     SCAN=SCAN_GRID + 1, SUB=2 * (SCAN_PIECES + FOLD_SPLIT_PIECES), FAM=4 * NFAMILIES, NFAM=1,
     PAIR=2 * (SCAN_GRID + 1), SHORT=2 * (SCAN_GRID + 1), SPLIT=2 * FOLD_SPLIT_PIECES, LEAST=4,
     RSCAN=SCAN_MEMO * SCAN_SLOT, NRSCAN=1, SDIP=2 * SHOULDER_DIPS, NSDIP=1,
-    STR=3 * NSTRETCHED, NSTR=1, SEND=9,
+    STR=3 * NSTRETCHED, NSTR=1, SEND=9, TEND=6,
 )
 W_MATS, W_P, W_A, W_TH, W_Q6, W_QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"], _W["QQ"]
 W_BLO, W_BHI, W_BSURE, W_FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
@@ -481,6 +494,7 @@ W_RSCAN, W_NRSCAN = _W["RSCAN"], _W["NRSCAN"]
 W_SDIP, W_NSDIP = _W["SDIP"], _W["NSDIP"]
 W_STR, W_NSTR = _W["STR"], _W["NSTR"]
 W_SEND = _W["SEND"]  # (the last reduced scan's last grid point, its |e|, r there and before: reduced_scan)
+W_TEND = _W["TEND"]  # (the first wrist sign's whole turn's last point: _q1_scans)
 
 
 # the one angle wrap, to (-pi, pi], and the exact reduction under it (ik7r.geometry.rotations)

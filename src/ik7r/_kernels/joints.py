@@ -144,12 +144,19 @@ def other_wrist(q, R07, K, th, M, Q, W, qq):
     arm's wrist target. On the idealised model each arm comes with both; on a deviating one the
     exact solution lies about the deviation from it. ``th`` (6,), ``M`` (4, 4), ``Q`` and ``W``
     (3, 3) are work arrays."""
+    arm_with_wrist(q, -theta5(q, K), R07, K, th, M, Q, W, qq)
+
+
+@njit
+def arm_with_wrist(q, t5, R07, K, th, M, Q, W, qq):
+    """Make ``qq`` (may be ``q``) the arm of ``q`` (user joints 1 to 3) with the wrist of DH
+    theta5 ``t5`` for the flange ``R07``: theta4 and theta7 from the arm's wrist target.
+    ``th`` (6,), ``M`` (4, 4), ``Q`` and ``W`` (3, 3) are work arrays."""
     for i in range(3):
         t = dh_angle(q, K, i)
         th[i] = math.cos(t)
         th[3 + i] = math.sin(t)
     _arm_target(th, R07, K, M, Q)
-    t5 = -theta5(q, K)
     t4, t7 = wrist_ik_cs(Q, math.cos(t5), math.sin(t5), K[L.SIGN + 3] * q[3] + K[L.THETA_OFFSET4], K, W)
     _completed(q, t4, t5, t7, K, qq)
 

@@ -54,6 +54,8 @@ from .constants import (
     STRETCH_ITERS,
     STRETCH_SPLITS,
     STRETCHED_TOL,
+    TRACK_JUMP,
+    TURN_START_ROUNDS,
     TWO_PI,
     W_A,
     W_FAM,
@@ -79,7 +81,7 @@ from .fk import (
     user_angle,
 )
 from .jit import njit
-from .joints import other_wrist
+from .joints import arm_with_wrist, other_wrist
 from .poly import brent_next, brent_start, brent_take, illinois_step, secant_point
 from .singular import turn_scanned
 
@@ -377,6 +379,39 @@ def _reduced_at(q, j, v, Td, K, T, J, A, e, g, dq, ZO):
 
 
 @njit
+def _wrist_again(qt, qp, j, v, r, res, Td, K, T, J, A, e, g, dq, ZO, R07, th, M, Q, W):
+    """A point of the whole turn in q1 whose Gauss-Newton (from the grid's prediction ``qp``, to
+    ``qt`` with ``r``, ``|e|`` = ``res``) did not settle and ended far above the point before:
+    where the wrist passes close to straight, q4 and q7 turn by up to pi within a part of a
+    cell, and four steps of at most 0.1 rad do not follow them. Gauss-Newton again from the
+    prediction with its wrist solved for its arm's wrist target, theta5 kept
+    (:func:`arm_with_wrist`; q4 and q7 on their turns nearest the prediction's), kept where it
+    ends lower. ``qp`` is then work. Returns (r, |e|, ok) at the point in ``qt``."""
+    qp[j] = v
+    q4, q7 = qp[3], qp[5]
+    arm_with_wrist(qp, theta5(qp, K), R07, K, th, M, Q, W, qp)
+    qp[3] = q4 + wrap(qp[3] - q4)
+    qp[5] = q7 + wrap(qp[5] - q7)
+    r2, res2, ok2 = _reduced_at(qp, j, v, Td, K, T, J, A, e, g, dq, ZO)
+    if ok2 and res2 < res:
+        for i in range(6):
+            qt[i] = qp[i]
+        return r2, res2, ok2
+    return r, res, True
+
+
+@njit
+def _settled(dq, j):
+    """Whether the Gauss-Newton of the last :func:`_reduced_at` that succeeded stopped settled:
+    it leaves its last step in ``dq``, below REDUCED_SETTLE (rad) where it stopped for that,
+    the last step it took where it ran out of steps."""
+    for i in range(6):
+        if i != j and not abs(dq[i]) < REDUCED_SETTLE:
+            return False
+    return True
+
+
+@njit
 def _least_squares_step(J, e, j, A, g, dq):
     """The Gauss-Newton step ``dq`` (6,) in the five joints other than ``j`` for the error ``e``
     with the Jacobian ``J`` (6, 6): the least-squares solution of ``J_o dq_o = e``, by the
@@ -634,7 +669,7 @@ def _scan_keep(memo, n, j, v0, v1, m, qs, rs, es, closed):
 
 
 @njit(allocates=True)
-def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
+def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=False):
     """Every exact solution on the branch of the reduced residual (:func:`_reduced_at`) with
     joint ``j`` over [v0, v1], tracked from ``start`` on a grid of ``m`` <= REDUCED_GRID cells
     (each point Gauss-Newton from the extrapolation of the two before it): sign changes refined
@@ -644,7 +679,12 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
     refined from the same points is not refined again (:func:`_scan_seen`). On return
     ``start`` holds the grid point whose wrist is the least bent (see
     :func:`straight_family`), and ``ws[W_SEND:W_SEND + 9]`` the last grid point, its ``|e|``
-    (inf where Gauss-Newton failed there) and the residual at the last two points (nan there)."""
+    (inf where Gauss-Newton failed there) and the residual at the last two points (nan there).
+    ``one_sign`` (q1 only; see TURN_START_ROUNDS): the start is first taken to its
+    least-squares point, the scan keeps its wrist's sign by going on along the other wrist's
+    branch where the wrist passes straight, a point that jumps off the branch is solved again
+    with its wrist solved for the arm's target (:func:`_wrist_again`), and the scan is not
+    joined to an earlier one."""
     T = np.empty((4, 4))
     J = np.empty((6, 6))
     A = np.empty((6, 6))
@@ -656,6 +696,7 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
     rs = np.empty(m + 1)
     es = np.empty(m + 1)
     qt = np.empty(6)
+    qp = np.empty(6)  # (a point's prediction, for _wrist_again; its other wrist)
     th6 = np.empty(6)  # (scratch: the other wrist at a dip, see other_wrist; a moved cell end)
     M3 = np.empty((4, 4))
     Q3 = np.empty((3, 3))
@@ -663,8 +704,11 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
     memo = ws[W_RSCAN:W_RSCAN + SCAN_MEMO * SCAN_SLOT]
     n = int(ws[W_NRSCAN]) if m == REDUCED_GRID else 0
     joined = -1
+    whole = one_sign and j == 0  # (see :func:`ik7r._kernels.scans._q1_scans`)
+    sign = 0.0
+    mirrored = -1
     for k in range(m + 1):
-        if joined < 0 and k >= 2:
+        if joined < 0 and k >= 2 and not whole:
             joined = _scan_joined(memo, n, j, v0, v1, m, qs, k)
         if joined >= 0:
             # (the earlier scan's point k: Gauss-Newton from the same start; added if exact then)
@@ -677,11 +721,33 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats):
         for i in range(6):
             if k == 0:
                 qt[i] = start[i]
-            elif k == 1:
-                qt[i] = qs[0, i]
+            elif k == 1 or mirrored == k - 1:
+                qt[i] = qs[k - 1, i]
             else:
                 qt[i] = 2.0 * qs[k - 1, i] - qs[k - 2, i]
+            qp[i] = qt[i]
         r, res, ok = _reduced_at(qt, j, v0 + (v1 - v0) * k / m, Td, K, T, J, A, e, g, dq, ZO)
+        if (whole and ok and k > 0 and res > max(TRACK_JUMP * es[k - 1], DIP_NEAR)
+                and not _settled(dq, j)):
+            # a jump off the branch: its wrist solved again for the arm's target at the prediction
+            r, res, ok = _wrist_again(qt, qp, j, v0 + (v1 - v0) * k / m, r, res, Td, K, T, J, A,
+                                      e, g, dq, ZO, mats[MAT_R07, :3, :3], th6, M3, Q3, W3)
+        if whole and ok:
+            if k == 0:
+                for _ in range(TURN_START_ROUNDS):  # (the start to its least-squares point)
+                    if not ok or _settled(dq, j):
+                        break
+                    r, res, ok = _reduced_at(qt, j, v0, Td, K, T, J, A, e, g, dq, ZO)
+                sign = 1.0 if theta5(qt, K) >= 0.0 else -1.0
+            elif sign * theta5(qt, K) < 0.0 and abs(theta5(qt, K)) < 0.5 * math.pi:
+                # the wrist passed straight, where this branch meets the other wrist's: go on
+                # along the other, which keeps this scan's wrist sign (fully bent, Gauss-Newton
+                # cannot move theta5 off pi: the scan goes on through it)
+                other_wrist(qt, mats[MAT_R07, :3, :3], K, th6, M3, Q3, W3, qp)
+                for i in range(6):
+                    qt[i] = qp[i]
+                r, res, ok = _reduced_at(qt, j, v0 + (v1 - v0) * k / m, Td, K, T, J, A, e, g, dq, ZO)
+                mirrored = k
         for i in range(6):
             qs[k, i] = qt[i]
         rs[k] = r if ok else np.nan

@@ -15,9 +15,10 @@ import math
 import numpy as np
 
 from . import params as L
-from .answers import accept
+from .answers import accept, apart
 from .candidates import solutions_at, wrist_and_accept
 from .constants import (
+    CLOSED_TOL,
     DIP_FLOOR,
     DIP_NEAR,
     FOLD_BELOW,
@@ -73,6 +74,7 @@ from .constants import (
     W_SHORT,
     W_SPLIT,
     W_SUB,
+    W_TEND,
     W_TH,
     wrap,
 )
@@ -709,13 +711,17 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
     either sign, from its q1 over ``span_a`` and then ``span_b`` (rad, user q1; 0: no scan), on
     ``cells`` cells each. A scan shorter than the whole turn that ends inside its valley with roots
     that may go on (:func:`_valley_goes_on`) goes on by its span again, up to SHOULDER_VALLEY_END
-    from its start."""
+    from its start. Where the whole turns of the two wrist signs end on one curve, the turn is
+    tracked again, each scan keeping its wrist's sign (see TURN_START_ROUNDS): the branch the
+    two left was otherwise seen by the dip-centred scans alone."""
     Q = mats[MAT_Q, :3, :3]
     q = ws[W_Q6:W_Q6 + 6]
     qq = ws[W_QQ:W_QQ + 6]
     t5 = max(th[6], SHOULDER_TURN_BEND)
     t4_hint = K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4]
     v0 = q[0]
+    turn = span_b == 0.0 and abs(abs(span_a) - TWO_PI) < 1e-12
+    end = ws[W_TEND:W_TEND + 6]
     for sgn in (1.0, -1.0):
         for span in (span_a, span_b):
             if span == 0.0:
@@ -723,6 +729,9 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
             # (the start into qq: reduced_scan reads it once, before it adds anything)
             with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
             count = reduced_scan(qq, 0, v0, v0 + span, cells, Td, K, out, count, ws, mats)
+            if turn and sgn > 0.0:
+                for i in range(6):
+                    end[i] = ws[W_SEND + i]
             v = v0 + span
             while (abs(v - v0) + abs(span) <= SHOULDER_VALLEY_END + 1e-12
                    and _valley_goes_on(ws[W_SEND + 6], ws[W_SEND + 7], ws[W_SEND + 8])):
@@ -730,6 +739,12 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
                     qq[i] = ws[W_SEND + i]
                 count = reduced_scan(qq, 0, v, v + span, cells, Td, K, out, count, ws, mats)
                 v += span
+    if turn and apart(end, ws[W_SEND:W_SEND + 6]) < CLOSED_TOL:
+        # both wrist signs ended on one curve: the turn again, each scan keeping its wrist's sign
+        # from a start taken to its least-squares point (see TURN_START_ROUNDS)
+        for sgn in (1.0, -1.0):
+            with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
+            count = reduced_scan(qq, 0, v0, v0 + span_a, cells, Td, K, out, count, ws, mats, True)
     return count
 
 
