@@ -1318,6 +1318,27 @@ def test_shoulder_turn_of_both_wrist_signs_on_one_curve(case):
     assert_complete_once(robot, np.array(q), from_source=True)
 
 
+@pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
+    "open (issue 12): a false 'no solution' beside the fully bent wrist of a lateral member that "
+    "deviates far (docs/guide/edges.md, second session of 2026-12-06: left)"))
+def test_fully_bent_wrist_of_a_far_deviating_lateral_member_is_answered():
+    """A member with a lateral offset of 200 mm, wrist twists of 31.7 deg and wrist offsets up
+    to 0.28 mm (hunt seed 699, the shoulder kinds at ``--deviate 0.2``), the wrist 0.2 rad from
+    fully bent: the idealised model has no solution (its least-squares point misses the pose by
+    0.17 mm) and ``ik_all`` answers nothing, while the reference finds two exact solutions, the
+    source among them."""
+    dh = np.array([[0.0, 0.0, 457.0, 0.0], [243.0, -1.5708395819107575, 118.0, 0.0],
+                   [1070.0, -9.351164552319756e-05, 82.0, 0.0], [19.0, -1.5707553140851287, 1102.0, 0.0],
+                   [-0.27629719688337173, -0.553638101350739, 147.9104251059758, -2.5430067521335283e-05],
+                   [0.2726485702762161, 1.1072350015487373, 148.10052529964736, 0.0],
+                   [-0.09087961848712192, -0.5535537516808796, 126.0, 0.0]])
+    robot = Robot(name="far_lateral", dh=dh)
+    assert robot.family.b == 200.0 and robot.family.deviation > 0.2
+    q = np.array([2.3810428704800612, 3.0317436423306736, 2.628576895470827, -1.275967010491529,
+                  -2.9416302390560336, -0.07706684177340772])
+    assert_complete_once(robot, q, from_source=True)
+
+
 def test_shoulder_set_of_a_robot_whose_wrist_offsets_are_negative():
     """A member written in mirrored frames with negative wrist offsets (d5 = d6 = -77), its wrist
     twists rounded to 0.01 deg (1.2e-4 rad off; hunt seed 509, ``--frames mirror``), the line of
