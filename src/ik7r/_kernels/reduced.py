@@ -704,11 +704,11 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=Fals
     memo = ws[W_RSCAN:W_RSCAN + SCAN_MEMO * SCAN_SLOT]
     n = int(ws[W_NRSCAN]) if m == REDUCED_GRID else 0
     joined = -1
-    whole = one_sign and j == 0  # (see :func:`ik7r._kernels.scans._q1_scans`)
+    keep_sign = one_sign and j == 0  # (see :func:`ik7r._kernels.scans._q1_scans`)
     sign = 0.0
     mirrored = -1
     for k in range(m + 1):
-        if joined < 0 and k >= 2 and not whole:
+        if joined < 0 and k >= 2 and not keep_sign:
             joined = _scan_joined(memo, n, j, v0, v1, m, qs, k)
         if joined >= 0:
             # (the earlier scan's point k: Gauss-Newton from the same start; added if exact then)
@@ -727,19 +727,20 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=Fals
                 qt[i] = 2.0 * qs[k - 1, i] - qs[k - 2, i]
             qp[i] = qt[i]
         r, res, ok = _reduced_at(qt, j, v0 + (v1 - v0) * k / m, Td, K, T, J, A, e, g, dq, ZO)
-        if (whole and ok and k > 0 and res > max(TRACK_JUMP * es[k - 1], DIP_NEAR)
+        if (keep_sign and ok and k > 0 and res > max(TRACK_JUMP * es[k - 1], DIP_NEAR)
                 and not _settled(dq, j)):
             # a jump off the branch: its wrist solved again for the arm's target at the prediction
             r, res, ok = _wrist_again(qt, qp, j, v0 + (v1 - v0) * k / m, r, res, Td, K, T, J, A,
                                       e, g, dq, ZO, mats[MAT_R07, :3, :3], th6, M3, Q3, W3)
-        if whole and ok:
+        if keep_sign and ok:
+            t5 = theta5(qt, K)
             if k == 0:
                 for _ in range(TURN_START_ROUNDS):  # (the start to its least-squares point)
                     if not ok or _settled(dq, j):
                         break
                     r, res, ok = _reduced_at(qt, j, v0, Td, K, T, J, A, e, g, dq, ZO)
                 sign = 1.0 if theta5(qt, K) >= 0.0 else -1.0
-            elif sign * theta5(qt, K) < 0.0 and abs(theta5(qt, K)) < 0.5 * math.pi:
+            elif sign * t5 < 0.0 and abs(t5) < 0.5 * math.pi:
                 # the wrist passed straight, where this branch meets the other wrist's: go on
                 # along the other, which keeps this scan's wrist sign (fully bent, Gauss-Newton
                 # cannot move theta5 off pi: the scan goes on through it)
