@@ -1318,15 +1318,16 @@ def test_shoulder_turn_of_both_wrist_signs_on_one_curve(case):
     assert_complete_once(robot, np.array(q), from_source=True)
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-    "open (issue 12): a false 'no solution' beside the fully bent wrist of a lateral member that "
-    "deviates far (docs/guide/edges.md, second session of 2026-12-06: left)"))
 def test_fully_bent_wrist_of_a_far_deviating_lateral_member_is_answered():
     """A member with a lateral offset of 200 mm, wrist twists of 31.7 deg and wrist offsets up
     to 0.28 mm (hunt seed 699, the shoulder kinds at ``--deviate 0.2``), the wrist 0.2 rad from
     fully bent: the idealised model has no solution (its least-squares point misses the pose by
-    0.17 mm) and ``ik_all`` answers nothing, while the reference finds two exact solutions, the
-    source among them."""
+    0.17 mm), and ``ik_all`` answered nothing, while the reference finds two exact solutions,
+    the source among them. The lateral crossings' candidates lay 0.17 and 0.20 mm off, 2.5e-3
+    rad from the two solutions; the homotopy from the idealised model took them to its nearest
+    point beyond the fold (0.3 mm off), where Newton stalled. A followed candidate that lands nowhere is now
+    polished by Newton from its start as well: the source and every solution of the reference
+    among the answers, every answer exact, none twice."""
     dh = np.array([[0.0, 0.0, 457.0, 0.0], [243.0, -1.5708395819107575, 118.0, 0.0],
                    [1070.0, -9.351164552319756e-05, 82.0, 0.0], [19.0, -1.5707553140851287, 1102.0, 0.0],
                    [-0.27629719688337173, -0.553638101350739, 147.9104251059758, -2.5430067521335283e-05],
@@ -1336,6 +1337,54 @@ def test_fully_bent_wrist_of_a_far_deviating_lateral_member_is_answered():
     assert robot.family.b == 200.0 and robot.family.deviation > 0.2
     q = np.array([2.3810428704800612, 3.0317436423306736, 2.628576895470827, -1.275967010491529,
                   -2.9416302390560336, -0.07706684177340772])
+    assert_complete_once(robot, q, from_source=True)
+
+
+def test_inside_the_lateral_cylinder_where_the_merged_branch_ends_in_a_cell():
+    """A 45 deg member with a lateral offset of 212 mm and wrist offsets up to 0.14 mm (hunt seed
+    686, the shoulder kinds at ``--deviate 0.1``, member 21), the wrist bent 0.42 rad: the line
+    of virtual centres runs inside the cylinder of radius b from theta5 = 0.379 to 2.647, and the
+    source's idealised centre lies 0.23 mm inside it, so the idealised arm has no branch there.
+    ``ik_all`` answered nothing. The merged branch's bend gap (the centre taken onto the
+    cylinder) crosses zero at theta5 = 0.424, in the first cell of its grid, whose other end
+    (0.568) lies beyond the merge's reach: a NaN there, and no sign change seen. A cell where the
+    branch ends is now searched up to the branch's end: the source and every solution of the
+    reference among the answers, every answer exact, none twice."""
+    dh = np.array([[0.0, 0.0, 508.0, 0.0], [17.0, -1.5707487746066477, 148.0, 0.0],
+                   [1236.0, 5.323734102388213e-06, 64.0, 0.0], [91.0, -1.5707706137588648, 1471.0, 0.0],
+                   [-0.05779829156913338, -0.7854024302574583, 61.94980565423989, 6.000634119665394e-06],
+                   [-0.13275448735247372, 1.5707954822489132, 62.02734890630555, 0.0],
+                   [-0.1367652383076897, -0.7854067270021845, 182.0, 0.0]])
+    robot = Robot(name="inside_lateral", dh=dh)
+    assert robot.family.b == 212.0 and robot.family.deviation > 0.1
+    q = np.array([2.338039764549052, -1.391175875264377, 1.608214051012422, -1.7182023257845414,
+                  0.4237657765606606, -1.1666326374707614])
+    assert_complete_once(robot, q, from_source=True)
+
+
+def test_inside_the_lateral_cylinder_beside_the_elbows_reach():
+    """A member written in mirrored frames with a lateral offset of -111 mm, wrist twists of
+    27.6 deg and wrist offsets up to 0.071 mm (hunt seed 512, ``--frames mirror
+    --lateral-shoulder --deviate 0.05``, member 7, a shoulder pose; the hunt's base and tool
+    frames dropped): the whole range of d lies 0.1 to 0.44 mm inside the cylinder of radius
+    abs(b), and the merged branch reaches only from theta5 = 2.80 on. Its bend gap dips to
+    -1.1e-4 rad at 2.90 (the source's theta5 2.93), next to the grid point 2.88, whose
+    neighbour on the other side (2.62) lies beyond the reach: a NaN there, no dip seen, nothing
+    answered. The branch's end now stands for that neighbour: the source and every solution of
+    the reference among the answers, every answer exact, none twice."""
+    dh = np.array([[0.0, 0.0, 456.0, 1.451241273033285],
+                   [383.0, 1.5707840941104432, -63.0, -0.8274605983705114],
+                   [835.0, -5.293269745050528e-06, -48.0, 1.2433725591207603],
+                   [-138.0, 1.5708160944607297, -1416.0, -2.136632070291458],
+                   [0.07080054657083777, -0.48188756882732786, 65.99062681704619, -1.812524428196111],
+                   [-0.018032891159267737, 0.9635913180160491, 65.98357315483321, 0.5906194188748811],
+                   [-0.002993234982926493, -0.4819020058421565, -91.0, -0.3762929867299774]])
+    robot = Robot(name="mirrored_lateral", dh=dh,
+                  joint_sign=np.array([-1.0, 1.0, -1.0, 1.0, -1.0, 1.0, -1.0]),
+                  coupling=(1.0, 1.22190500932123))
+    assert robot.family.b == -111.0 and robot.family.deviation > 0.05
+    q = np.array([0.7750779759554778, 1.5518691218583482, -0.2013334003277416, -2.7176138722173295,
+                  1.1137108553673922, 0.11438429045326037])
     assert_complete_once(robot, q, from_source=True)
 
 

@@ -530,7 +530,7 @@ def _polish_deviating(q, dp, Td, K, follow, mats):
     robot's size from meeting the pose is not followed; otherwise ``q`` is followed from the
     idealised model to the exact one (when ``follow``: a homotopy over HOMOTOPY_STEPS
     intermediate models) and polished by Newton, giving up after STALL_PATIENCE steps without
-    progress."""
+    progress; where that lands nowhere, Newton polishes from the start itself as well."""
     # the same start twice (candidates of nearby roots, brackets and scans often are): the
     # polish would only repeat itself
     entry, seen = _tried(q, follow, mats)
@@ -547,6 +547,17 @@ def _polish_deviating(q, dp, Td, K, follow, mats):
     # (damped where Newton's step is not defined: a candidate at a nearly straight wrist, whose
     # split the FK hardly sees, stopped 1.6e-7 mm off at once, its solution 4e-6 rad away)
     exact = polish(q, Td, K, 30, True, STALL_PATIENCE)
+    if not exact and follow:
+        # the candidate may not solve the idealised model at all (where that has no solution
+        # and the exact model has two): the homotopy then leads it toward the idealised model's
+        # nearest point instead (a lateral crossing's candidate beside a far-deviating member's
+        # fully bent wrist went from 0.17 to 0.3 mm off, beyond the fold, while Newton from the
+        # start converges in two steps). Newton from the start as well
+        m, o = _memo_slot(entry)
+        start = mats[m].reshape(16)
+        for i in range(6):
+            q[i] = start[o + i]
+        exact = polish(q, Td, K, 30, True, STALL_PATIENCE)
     _remember(entry, exact, mats)
     return _LANDED if exact else _MISSED
 
@@ -617,13 +628,15 @@ def _tried(q, follow, mats):
     n = int(mats[MAT_MEMO_N, 0, 0])
     fl = 1.0 if follow else 0.0
     for k in range(min(n, MEMO_SIZE)):
-        e = mats[MAT_MEMO + k // 2].reshape(16)[8 * (k % 2):8 * (k % 2) + 8]
+        m, o = _memo_slot(k)
+        e = mats[m].reshape(16)[o:o + 8]
         if e[6] != fl or e[7] < 0.0:
             continue
         if apart(e, q) <= MEMO_TOL:
             return k, e[7]
     k = n % MEMO_SIZE
-    e = mats[MAT_MEMO + k // 2].reshape(16)[8 * (k % 2):8 * (k % 2) + 8]
+    m, o = _memo_slot(k)
+    e = mats[m].reshape(16)[o:o + 8]
     for i in range(6):
         e[i] = q[i]
     e[6] = fl
@@ -635,7 +648,16 @@ def _tried(q, follow, mats):
 @njit
 def _remember(k, exact, mats):
     """Record the outcome of the start in memo entry ``k`` (see :func:`_tried`)."""
-    mats[MAT_MEMO + k // 2].reshape(16)[8 * (k % 2) + 7] = 1.0 if exact else 0.0
+    m, o = _memo_slot(k)
+    mats[m].reshape(16)[o + 7] = 1.0 if exact else 0.0
+
+
+@njit
+def _memo_slot(k):
+    """Where entry ``k`` of the memo of :func:`_tried` lies: the matrix of the pose's stack and
+    the offset in it of its 8 numbers (the start's 6 joints, whether it was followed, its
+    outcome)."""
+    return MAT_MEMO + k // 2, 8 * (k % 2)
 
 
 @njit

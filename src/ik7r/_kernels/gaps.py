@@ -155,7 +155,7 @@ def gap_reaches(t, p, a, front, elbow, K, th):
     """Whether the arm branch of :func:`gap` reaches at ``t`` (its ``ok``, the same to the last
     bit), at a fraction of its cost for the bend gaps (no angle of the arm, no gap): the
     bisections for the ends of arm branches in :func:`_scan_piece` ask only this."""
-    if abs(front) == 2.0 or front == 3.0:
+    if abs(front) == 2.0 or front == 3.0 or abs(front) == 5.0:
         return gap(t, p, a, front, elbow, K, th)[1]
     t5, t1, in_plane = t, 0.0, front == 0.0
     if in_plane:

@@ -318,7 +318,9 @@ def _lateral_inside(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
     the cylinder (``gap``'s front 5) on a grid of GAP_NEAR_CELLS over the stretch of theta5
     inside: each sign change (refined) and each grid minimum of ``|gap|`` below GAP_NEAR_GRID
     that Brent's minimiser takes below GAP_NEAR_DEPTH is completed with the wrist and polished
-    on the exact model."""
+    on the exact model. Where the merged branch ends within a cell, its end stands for the grid
+    point beyond (:func:`_merged_side`): a root or a dip beside the end was missed (a member's
+    source beside the elbow's reach, another's beside the merge's depth: nothing answered)."""
     d1, d2 = cylinder_crossings(p, a, K)
     if not (math.isfinite(d1) and math.isfinite(d2)):
         return count
@@ -343,19 +345,49 @@ def _lateral_inside(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
             g, ok = gap(ta + h * i, p, a, 5.0, elbow, K, th)
             gs[i] = g if ok else np.nan
         for i in range(m + 1):
-            g0, g1, g2 = gs[max(i - 1, 1 - i)], gs[i], gs[min(i + 1, 2 * m - 1 - i)]
-            t = math.nan
-            if i < m and g1 * gs[i + 1] < 0.0:  # (NaN fails the comparisons)
-                t = gap_root(ta + h * i, ta + h * (i + 1), g1, gs[i + 1], p, a, 5.0, elbow, K, th)
-            elif _grid_dip(g0, g1, g2):
-                tm, fm, _, okm = gap_min(ta + h * max(i - 1, 0), ta + h * min(i + 1, m), p, a, 5.0,
-                                         elbow, K, th)
+            g1 = gs[i]
+            if not math.isfinite(g1):
+                continue
+            ti = ta + h * i
+            # its neighbours (where the branch ends in the cell between, that end), mirrored at
+            # the grid's ends for the dip's test
+            tl, gl, tr, gr = ti, np.nan, ti, np.nan
+            if i > 0:
+                tl, gl = _merged_side(ti, ta + h * (i - 1), gs[i - 1], elbow, p, a, K, th)
+            if i < m:
+                tr, gr = _merged_side(ti, ta + h * (i + 1), gs[i + 1], elbow, p, a, K, th)
+            if i == 0:
+                gl = gr
+            if i == m:
+                gr = gl
+            root = False
+            if i < m and g1 * gr < 0.0:  # (NaN fails the comparisons)
+                count = _root_between(ti, g1, tr, gr, p, a, 5.0, elbow, R07, Td, K, hint, has_hint,
+                                      out, count, filt, ws, mats)
+                root = True
+            if i > 0 and not math.isfinite(gs[i - 1]) and g1 * gl < 0.0:  # (a cell with an end)
+                count = _root_between(tl, gl, ti, g1, p, a, 5.0, elbow, R07, Td, K, hint, has_hint,
+                                      out, count, filt, ws, mats)
+                root = True
+            if not root and _grid_dip(gl, g1, gr):
+                tm, fm, _, okm = gap_min(tl, tr, p, a, 5.0, elbow, K, th)
                 if okm and fm < GAP_NEAR_DEPTH:
-                    t = tm
-            if math.isfinite(t):
-                count = _gap_candidate(t, p, a, 5.0, elbow, R07, Td, K, hint, has_hint, out, count,
-                                       filt, ws, mats)
+                    count = _gap_candidate(tm, p, a, 5.0, elbow, R07, Td, K, hint, has_hint, out,
+                                           count, filt, ws, mats)
     return count
+
+
+@njit
+def _merged_side(ti, tj, gj, elbow, p, a, K, th):
+    """The neighbour of a grid point ``ti`` of :func:`_lateral_inside`, where its merged branch
+    (front 5) is defined, toward the grid point ``tj`` (its gap ``gj``): ``(tj, gj)``, or where
+    the branch ends between them (``gj`` NaN: the elbow's reach, or the centre deeper inside
+    the cylinder than the merge takes) that end (:func:`branch_end`) and its gap."""
+    if math.isfinite(gj):
+        return tj, gj
+    t_end = branch_end(ti, tj, p, a, 5.0, elbow, K, th)
+    g_end, ok = gap(t_end, p, a, 5.0, elbow, K, th)
+    return t_end, (g_end if ok else np.nan)
 
 
 @njit
