@@ -1388,6 +1388,28 @@ def test_inside_the_lateral_cylinder_beside_the_elbows_reach():
     assert_complete_once(robot, q, from_source=True)
 
 
+def test_straight_wrist_split_whose_scan_point_jumped_between_two_roots():
+    """A member with a lateral offset of -11 mm, wrist twists of 15.3 deg and wrist offsets up to
+    0.082 mm (hunt seed 685, the shoulder kinds at ``--deviate 0.1``, member 2, a shoulder pose),
+    the wrist nearly straight (q5 = 0.004): the split's scan in q4 (48 cells of 0.13 rad) has four
+    roots within 0.33 rad (q4 = 1.313, 1.473 the source, 1.551, 1.642), the wrist passing straight
+    between the last two. Its point at q4 = 1.571 jumped off the valley (``|e|`` 9.9e-4 against
+    9.3e-8 and 1.6e-6 beside it), and the three roots in the two cells around it were one sign
+    change short: the source was missed. The two cells around such a point are now scanned again
+    on a finer grid from the point before: the source and every solution of the reference among
+    the answers, every answer exact, none twice."""
+    dh = np.array([[0.0, 0.0, 495.0, 0.0], [287.0, 1.5707927239895665, 138.0, 0.0],
+                   [713.0, -1.4984707026723312e-05, -149.0, 0.0], [188.0, -1.5708460487133795, 724.0, 0.0],
+                   [0.030601554451595753, -0.26758781332865583, 108.03791664823136, 4.605410864888027e-05],
+                   [0.08228042529405183, 0.5352850130173228, 107.99055993455738, 0.0],
+                   [-0.012985574004444604, -0.2675386280281028, 184.0, 0.0]])
+    robot = Robot(name="split_jump", dh=dh)
+    assert robot.family.b == -11.0 and robot.family.deviation > 0.08
+    q = np.array([0.437638646376171, -2.305041790051126, -0.3868070706610496, 1.4725285355491966,
+                  0.0039629249699424385, -2.774076242409654])
+    assert_complete_once(robot, q, from_source=True)
+
+
 def test_shoulder_set_of_a_robot_whose_wrist_offsets_are_negative():
     """A member written in mirrored frames with negative wrist offsets (d5 = d6 = -77), its wrist
     twists rounded to 0.01 deg (1.2e-4 rad off; hunt seed 509, ``--frames mirror``), the line of

@@ -357,6 +357,14 @@ REDUCED_SETTLE = 1e-5
 #: IRB 5400 that is 8 scans more to 144 whole turns.
 TURN_START_ROUNDS = 12
 TRACK_JUMP = 10.0
+#: A point of the straight wrist's split scan (j = 3) whose ``|e|`` is above TRACK_JUMP times both
+#: neighbours' while these lie in a root's valley (below DIP_NEAR) jumped off the branch: the two
+#: cells around it are scanned again on JUMP_CELLS cells from the point before (at most JUMP_NOTED
+#: such points a scan; see :func:`ik7r._kernels.reduced.straight_family`). A point at q4 = 1.571
+#: jumped between four roots within 0.33 rad (|e| 9.9e-4 against 9.3e-8 and 1.6e-6 beside it), and
+#: the two cells showed one sign change for three roots: a member's source was missed.
+JUMP_CELLS = 8
+JUMP_NOTED = 4
 #: ... and a root of it refined until the residual the last step would leave is below this
 #: (position over the size, and rad): the point is then within REDUCED_SETTLE of the solution
 #: in the other joints anyway, which the polish on the exact model takes to the last bits
@@ -481,7 +489,7 @@ _W, WORK_SIZE = _offsets(
     SCAN=SCAN_GRID + 1, SUB=2 * (SCAN_PIECES + FOLD_SPLIT_PIECES), FAM=4 * NFAMILIES, NFAM=1,
     PAIR=2 * (SCAN_GRID + 1), SHORT=2 * (SCAN_GRID + 1), SPLIT=2 * FOLD_SPLIT_PIECES, LEAST=4,
     RSCAN=SCAN_MEMO * SCAN_SLOT, NRSCAN=1, SDIP=2 * SHOULDER_DIPS, NSDIP=1,
-    STR=3 * NSTRETCHED, NSTR=1, SEND=9, TEND=6,
+    STR=3 * NSTRETCHED, NSTR=1, SEND=9, TEND=6, JUMP=1 + 8 * JUMP_NOTED,
 )
 W_MATS, W_P, W_A, W_TH, W_Q6, W_QQ = _W["MATS"], _W["P"], _W["A"], _W["TH"], _W["Q6"], _W["QQ"]
 W_BLO, W_BHI, W_BSURE, W_FOUND = _W["BLO"], _W["BHI"], _W["BSURE"], _W["FOUND"]
@@ -495,6 +503,7 @@ W_SDIP, W_NSDIP = _W["SDIP"], _W["NSDIP"]
 W_STR, W_NSTR = _W["STR"], _W["NSTR"]
 W_SEND = _W["SEND"]  # (the last reduced scan's last grid point, its |e|, r there and before: reduced_scan)
 W_TEND = _W["TEND"]  # (the first wrist sign's whole turn's last point: _q1_scans)
+W_JUMP = _W["JUMP"]  # (the last split scan's jumped points: count; cell ends and point before each)
 
 
 # the one angle wrap, to (-pi, pi], and the exact reduction under it (ik7r.geometry.rotations)

@@ -23,6 +23,8 @@ from .constants import (
     DIP_SHARP,
     DUP_TOL,
     FOLD_WINDOW,
+    JUMP_CELLS,
+    JUMP_NOTED,
     MAT_M,
     MAT_Q,
     MAT_R07,
@@ -59,6 +61,7 @@ from .constants import (
     TWO_PI,
     W_A,
     W_FAM,
+    W_JUMP,
     W_NFAM,
     W_NRSCAN,
     W_NSTR,
@@ -116,7 +119,10 @@ def straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False, stretched=F
     grid of STRETCH_SPLITS over the whole turn, each start the arm with the wrist straight,
     polished by damped steps (:func:`_stretched_splits`), once per arm within STRETCHED_TOL of
     one tried before (:func:`_split_before`; the family's memo of arms does not hold for it: an
-    arm scanned before need not have been as near the stretch)."""
+    arm scanned before need not have been as near the stretch).
+
+    After each scan the two cells around each of its points that jumped off a root's valley are
+    scanned again on a finer grid (:func:`_jumps_again`, JUMP_CELLS)."""
     s4 = K[L.SIGN + 3]
     s7 = K[L.SIGN + 6]
     total = math.atan2(Q[1, 0], Q[0, 0]) - K[L.THETA_OFFSET4] - K[L.THETA_OFFSET7]
@@ -149,11 +155,13 @@ def straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False, stretched=F
     back = start.copy()
     count = reduced_scan(start, 3, -math.pi, math.pi, REDUCED_GRID, Td, K, out, count, ws,
                           mats)
+    count = _jumps_again(Td, K, out, count, ws, mats)
     if not sheets:
         return count
     # near the shoulder set a sheet need not close over the turn (q1 drifts onto the other
     # sheet before the scan comes back): its last half turn is tracked back from the start too
     count = reduced_scan(back, 3, math.pi, 0.0, REDUCED_GRID // 2, Td, K, out, count, ws, mats)
+    count = _jumps_again(Td, K, out, count, ws, mats)
     # the other sheet, from the mirror of the scanned one's least bent point: theta4 and theta7
     # half a turn on, theta5 of the other sign (the same wrist to first order in theta5)
     start[3] = wrap(start[3] + s4 * math.pi)
@@ -163,8 +171,26 @@ def straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False, stretched=F
         back[i] = start[i]
     count = reduced_scan(start, 3, start[3], start[3] + TWO_PI, REDUCED_GRID, Td, K, out, count,
                           ws, mats)
-    return reduced_scan(back, 3, back[3], back[3] - math.pi, REDUCED_GRID // 2, Td, K, out, count,
+    count = _jumps_again(Td, K, out, count, ws, mats)
+    count = reduced_scan(back, 3, back[3], back[3] - math.pi, REDUCED_GRID // 2, Td, K, out, count,
                          ws, mats)
+    return _jumps_again(Td, K, out, count, ws, mats)
+
+
+@njit(allocates=True)
+def _jumps_again(Td, K, out, count, ws, mats):
+    """The two cells around each point of the last split scan that jumped off a root's valley
+    (noted in ``ws[W_JUMP]`` by :func:`reduced_scan`) scanned again on JUMP_CELLS cells from the
+    point before: roots closer than a cell that the jump hid (see JUMP_CELLS)."""
+    nj = int(ws[W_JUMP])
+    todo = np.empty((JUMP_NOTED, 8))
+    for k in range(nj):
+        for i in range(8):
+            todo[k, i] = ws[W_JUMP + 1 + 8 * k + i]
+    for k in range(nj):
+        count = reduced_scan(todo[k, 2:].copy(), 3, todo[k, 0], todo[k, 1], JUMP_CELLS, Td, K, out,
+                             count, ws, mats)
+    return count
 
 
 @njit
@@ -684,7 +710,8 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=Fals
     least-squares point, the scan keeps its wrist's sign by going on along the other wrist's
     branch where the wrist passes straight, a point that jumps off the branch is solved again
     with its wrist solved for the arm's target (:func:`_wrist_again`), and the scan is not
-    joined to an earlier one."""
+    joined to an earlier one. A split scan (j = 3) notes its points that jumped off a root's
+    valley in ``ws[W_JUMP]`` (:func:`_note_jumps`)."""
     T = np.empty((4, 4))
     J = np.empty((6, 6))
     A = np.empty((6, 6))
@@ -847,6 +874,9 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=Fals
     if m == REDUCED_GRID and joined < 0:
         _scan_keep(memo, n, j, v0, v1, m, qs, rs, es, closed)
         ws[W_NRSCAN] = n + 1
+    ws[W_JUMP] = 0.0
+    if j == 3:
+        _note_jumps(qs, es, v0, v1, m, ws)
     for i in range(6):
         ws[W_SEND + i] = qs[m, i]
     ws[W_SEND + 6] = es[m]
@@ -860,6 +890,25 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=Fals
             for i in range(6):
                 start[i] = qs[k, i]
     return count
+
+
+@njit
+def _note_jumps(qs, es, v0, v1, m, ws):
+    """Note in ``ws[W_JUMP]`` (count, then per point the ends of its two cells and the point
+    before) the points of a split scan (grid ``qs`` over [v0, v1] on ``m`` cells, ``|e|`` ``es``)
+    that jumped off a root's valley: ``|e|`` above TRACK_JUMP times both neighbours' while these
+    are below DIP_NEAR (see JUMP_CELLS)."""
+    nj = 0
+    for k in range(1, m):
+        e_side = max(es[k - 1], es[k + 1])
+        if nj < JUMP_NOTED and es[k] > TRACK_JUMP * e_side and e_side < DIP_NEAR:
+            b = W_JUMP + 1 + 8 * nj
+            ws[b] = v0 + (v1 - v0) * (k - 1) / m
+            ws[b + 1] = v0 + (v1 - v0) * (k + 1) / m
+            for i in range(6):
+                ws[b + 2 + i] = qs[k - 1, i]
+            nj += 1
+    ws[W_JUMP] = nj
 
 
 @njit
