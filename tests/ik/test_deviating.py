@@ -1410,6 +1410,32 @@ def test_straight_wrist_split_whose_scan_point_jumped_between_two_roots():
     assert_complete_once(robot, q, from_source=True)
 
 
+def test_near_miss_just_beyond_the_fold_at_an_end_of_the_range():
+    """A member written in mirrored frames with a lateral offset of 143 mm, wrist twists of 36.2
+    deg and wrist offsets up to 0.098 mm (hunt seed 706, ``--frames mirror --lateral
+    --lateral-shoulder --deviate 0.1``, member 2, a stretched-elbow pose; the hunt's base and
+    tool frames dropped): the source's wrist is 0.041 rad from fully bent, 0.5 rad and more from
+    every other solution. The idealised model has no root there; one shoulder branch's factor of
+    the residual has a minimum just beyond the fold, at the end of the range, 2.8e-4 of its
+    terms' magnitude, and an end's minimum was held to 1e-4 (NEAR_RATIO_END): the source was
+    missed. At the fold's end of a twist below 45 deg it is now held to 1e-3
+    (NEAR_RATIO_FOLD_END): the source and every solution of the reference among the answers,
+    every answer exact, none twice."""
+    dh = np.array([[0.0, 0.0, 538.0, 2.3254766953572448],
+                   [195.0, 1.5708124908423005, 146.0, 2.713114322225185],
+                   [855.0, -3.180101814564334e-05, -3.0, -0.4347615166717875],
+                   [-105.0, 1.5708043126857185, -1111.0, 2.4183282115633427],
+                   [-0.09439136946744424, -0.6323162393623257, 136.06125257746777, 2.0907299109640074],
+                   [0.07674069850040043, 1.2646727218127563, 136.00703880307285, -0.8313003227248992],
+                   [-0.09756355372911561, -0.632314671338422, 97.0, 0.1778490507782222]])
+    robot = Robot(name="beyond_fold", dh=dh, joint_sign=np.array([1.0, 1.0, 1.0, -1.0, -1.0, -1.0, -1.0]),
+                  coupling=(-1.0, 1.2594295882391082))
+    assert robot.family.b == 143.0 and robot.family.deviation > 0.09
+    q = np.array([3.0971206694402857, 1.2080244809234983, 1.8659595207441289, 1.0069643106051709,
+                  -1.0099037791450733, 0.9876556967410064])
+    assert_complete_once(robot, q, from_source=True)
+
+
 def test_shoulder_set_of_a_robot_whose_wrist_offsets_are_negative():
     """A member written in mirrored frames with negative wrist offsets (d5 = d6 = -77), its wrist
     twists rounded to 0.01 deg (1.2e-4 rad off; hunt seed 509, ``--frames mirror``), the line of

@@ -53,6 +53,7 @@ from .constants import (
     NEAR_GRID,
     NEAR_RATIO,
     NEAR_RATIO_END,
+    NEAR_RATIO_FOLD_END,
     NEAR_RATIO_GRID,
     NMATS,
     ROOT_CAP,
@@ -210,7 +211,8 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
                 if not (fa < NEAR_RATIO * ms[k, i] or abs(fu) < NEAR_RATIO * mu):
                     continue  # clear of zero on the grid and at its refined minimum
                 if k > 0:
-                    if fu * fs[k, i] <= 0.0 or not (0 < i < m or abs(fu) < NEAR_RATIO_END * mu):
+                    end = NEAR_RATIO_FOLD_END if i == 0 and u_fold(K) >= FOLD_NEAR else NEAR_RATIO_END
+                    if fu * fs[k, i] <= 0.0 or not (0 < i < m or abs(fu) < end * mu):
                         continue  # two real roots (the certified search has them), or an end clear of zero
                 seen = False
                 for j in range(n0, n1):  # (the minima found before, and their neighbours)

@@ -31,8 +31,15 @@ NEAR_RATIO = 1e-2
 #: stretched elbow read 6.6e-2 on the grid and 9e-5 at its minimum)
 NEAR_RATIO_GRID = 0.25
 #: ... and, at its refined minimum, for one factor of G at an end of the range (see
-#: :func:`_near_misses`; inside the range a factor's grid minimum is held to NEAR_RATIO as G's)
+#: :func:`_near_misses`; inside the range a factor's grid minimum is held to NEAR_RATIO as G's) ...
 NEAR_RATIO_END = 1e-4
+#: ... but to this at the fold's end of a twist below 45 deg (where the range ends at the fully
+#: bent wrist itself): a mirrored member with a lateral offset (deviating by 0.098 mm) had a
+#: source with its wrist 0.041 rad from fully bent and no other solution near, from a factor's
+#: minimum just beyond the fold at 2.8e-4 (missed). (At every end, on the 45 deg rounded robot's
+#: singular-set poses, the fully bent wrist's answers moved by 2e-6 within its flat valley and
+#: its rows took 3 to 9 % longer.)
+NEAR_RATIO_FOLD_END = 1e-3
 #: Most candidate roots of one pose: every bracket (24) may give REFINE_GRID + 2 candidates, and
 #: on a deviating model the near misses (:func:`_near_misses`) three starts per local minimum of
 #: each of up to three residuals on NEAR_GRID + 1 points (at most NEAR_GRID // 2 + 1 minima each).
@@ -357,7 +364,7 @@ REDUCED_SETTLE = 1e-5
 #: IRB 5400 that is 8 scans more to 144 whole turns.
 TURN_START_ROUNDS = 12
 TRACK_JUMP = 10.0
-#: A point of the straight wrist's split scan (j = 3) whose ``|e|`` is above TRACK_JUMP times both
+#: ... and a point of the straight wrist's split scan (j = 3) whose ``|e|`` is above TRACK_JUMP times both
 #: neighbours' while these lie in a root's valley (below DIP_NEAR) jumped off the branch: the two
 #: cells around it are scanned again on JUMP_CELLS cells from the point before (at most JUMP_NOTED
 #: such points a scan; see :func:`ik7r._kernels.reduced.straight_family`). A point at q4 = 1.571
