@@ -122,7 +122,7 @@ def straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False, stretched=F
     arm scanned before need not have been as near the stretch).
 
     After each scan the two cells around each of its points that jumped off a root's valley are
-    scanned again on a finer grid (:func:`_jumps_again`, JUMP_CELLS)."""
+    scanned again on a finer grid (:func:`_split_scan`, JUMP_CELLS)."""
     s4 = K[L.SIGN + 3]
     s7 = K[L.SIGN + 6]
     total = math.atan2(Q[1, 0], Q[0, 0]) - K[L.THETA_OFFSET4] - K[L.THETA_OFFSET7]
@@ -153,15 +153,12 @@ def straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False, stretched=F
     start[4] = user_angle(4, 0.0, K)
     start[5] = s7 * (total + s4 * math.pi)
     back = start.copy()
-    count = reduced_scan(start, 3, -math.pi, math.pi, REDUCED_GRID, Td, K, out, count, ws,
-                          mats)
-    count = _jumps_again(Td, K, out, count, ws, mats)
+    count = _split_scan(start, -math.pi, math.pi, REDUCED_GRID, Td, K, out, count, ws, mats)
     if not sheets:
         return count
     # near the shoulder set a sheet need not close over the turn (q1 drifts onto the other
     # sheet before the scan comes back): its last half turn is tracked back from the start too
-    count = reduced_scan(back, 3, math.pi, 0.0, REDUCED_GRID // 2, Td, K, out, count, ws, mats)
-    count = _jumps_again(Td, K, out, count, ws, mats)
+    count = _split_scan(back, math.pi, 0.0, REDUCED_GRID // 2, Td, K, out, count, ws, mats)
     # the other sheet, from the mirror of the scanned one's least bent point: theta4 and theta7
     # half a turn on, theta5 of the other sign (the same wrist to first order in theta5)
     start[3] = wrap(start[3] + s4 * math.pi)
@@ -169,19 +166,19 @@ def straight_family(q, Q, Td, K, out, count, ws, mats, sheets=False, stretched=F
     start[5] = wrap(start[5] + s7 * math.pi)
     for i in range(6):
         back[i] = start[i]
-    count = reduced_scan(start, 3, start[3], start[3] + TWO_PI, REDUCED_GRID, Td, K, out, count,
-                          ws, mats)
-    count = _jumps_again(Td, K, out, count, ws, mats)
-    count = reduced_scan(back, 3, back[3], back[3] - math.pi, REDUCED_GRID // 2, Td, K, out, count,
-                         ws, mats)
-    return _jumps_again(Td, K, out, count, ws, mats)
+    count = _split_scan(start, start[3], start[3] + TWO_PI, REDUCED_GRID, Td, K, out, count, ws,
+                        mats)
+    return _split_scan(back, back[3], back[3] - math.pi, REDUCED_GRID // 2, Td, K, out, count, ws,
+                       mats)
 
 
 @njit(allocates=True)
-def _jumps_again(Td, K, out, count, ws, mats):
-    """The two cells around each point of the last split scan that jumped off a root's valley
-    (noted in ``ws[W_JUMP]`` by :func:`reduced_scan`) scanned again on JUMP_CELLS cells from the
-    point before: roots closer than a cell that the jump hid (see JUMP_CELLS)."""
+def _split_scan(start, v0, v1, m, Td, K, out, count, ws, mats):
+    """:func:`reduced_scan` of the split (q4, j = 3) from ``start`` over [v0, v1] on ``m`` cells;
+    then the two cells around each of its points that jumped off a root's valley (noted in
+    ``ws[W_JUMP]`` by :func:`_note_jumps`) scanned again on JUMP_CELLS cells from the point
+    before: roots closer than a cell that the jump hid (see JUMP_CELLS)."""
+    count = reduced_scan(start, 3, v0, v1, m, Td, K, out, count, ws, mats)
     nj = int(ws[W_JUMP])
     todo = np.empty((JUMP_NOTED, 8))
     for k in range(nj):
