@@ -95,10 +95,11 @@ def frame_dh(dh: np.ndarray) -> tuple[np.ndarray, bool]:
     negative upper arm ``a2`` made positive by turning frame 2 by pi about its z axis (``a2`` and
     ``alpha2`` change sign, ``pi`` moves from theta3's offset to theta2's), and a mirror wrist of
     negative ``beta`` (twists ``(+b, -2 b, +b)``) made positive by turning frames 4 to 6 by pi
-    about their z axes (the three twists change sign, ``pi`` is added to theta4's offset and
-    taken from theta7's: ``RotZ(pi) RotX(a) RotZ(-pi) = RotX(-a)``; the kernels take ``beta`` > 0,
-    as the half angles of :mod:`ik7r._kernels.wrist` do). Returns the table and whether the upper
-    arm was flipped."""
+    about their z axes (the three twists and the three lengths ``a4 .. a6`` before them change
+    sign, ``pi`` is added to theta4's offset and taken from theta7's: ``RotZ(pi) RotX(al)
+    TransX(a) RotZ(-pi) = RotX(-al) TransX(-a)``; the kernels take ``beta`` > 0, as the half
+    angles of :mod:`ik7r._kernels.wrist` do). Returns the table and whether the upper arm was
+    flipped."""
     out = np.array(dh, dtype=float)
     for i in range(7):
         out[i, 1] = reduce_angle(out[i, 1], f"alpha{i} (joint {i + 1})")
@@ -111,7 +112,9 @@ def frame_dh(dh: np.ndarray) -> tuple[np.ndarray, bool]:
         out[1, 3] = math.remainder(out[1, 3] + math.pi, 2 * math.pi)
         out[2, 3] = math.remainder(out[2, 3] - math.pi, 2 * math.pi)
     if out[4, 1] > 0.0 and out[5, 1] < 0.0 and out[6, 1] > 0.0:
-        # T34 RotZ(pi), RotZ(-pi) through T45 T56 T67 (twists negated), RotZ(-pi) into theta7
+        # T34 RotZ(pi), RotZ(-pi) through T45 T56 T67 (twists and lengths a4 .. a6 negated: zero
+        # on a member, not on a model that deviates from one), RotZ(-pi) into theta7
+        out[4:7, 0] = -out[4:7, 0]
         out[4:7, 1] = -out[4:7, 1]
         out[3, 3] = math.remainder(out[3, 3] + math.pi, 2 * math.pi)
         out[6, 3] = math.remainder(out[6, 3] - math.pi, 2 * math.pi)
