@@ -55,6 +55,7 @@ from .constants import (
     NEAR_RATIO_END,
     NEAR_RATIO_FOLD_END,
     NEAR_RATIO_GRID,
+    NEAR_RATIO_ROOTSIDE,
     NMATS,
     ROOT_CAP,
     W_A,
@@ -173,7 +174,10 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
     other, where ``G`` changes sign and shows no minimum: the factors are searched too (a
     factor's minimum within a quarter of a cell of one found before is that one). A grid
     minimum is held to NEAR_RATIO on the grid or, within NEAR_RATIO_GRID there, at its refined
-    minimum: the grid reads a narrow dip between its points too high."""
+    minimum: the grid reads a narrow dip between its points too high. A cell beside a root's
+    cell that the grid reads as the descent to that root may hold a near miss of its own (a
+    cluster): where the grid value between them is within NEAR_RATIO_ROOTSIDE of its terms, that
+    cell's least ``|f|`` is a candidate when it lies below half the grid value (:func:`_root_side`)."""
     m = NEAR_GRID
     nk = 3 if kind == 0 and K[L.PRODUCT] != 0.0 else 1
     fs = np.empty((nk, m + 1))
@@ -214,19 +218,44 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
                     end = NEAR_RATIO_FOLD_END if i == 0 and u_fold(K) >= FOLD_NEAR else NEAR_RATIO_END
                     if fu * fs[k, i] <= 0.0 or not (0 < i < m or abs(fu) < end * mu):
                         continue  # two real roots (the certified search has them), or an end clear of zero
-                seen = False
-                for j in range(n0, n1):  # (the minima found before, and their neighbours)
-                    seen = seen or abs(K[L.KW] / roots[j] - u) < 0.5 * h
-                if seen:
+            else:
+                j = _root_side(fs[k], ms[k], i, m)
+                if j < 0:
                     continue
-                for v in (u, u - h, u + h):  # the minimum and starts on either side of it
-                    if abs(v) > 1e-12:
-                        if count == roots.shape[0]:
-                            raise RuntimeError("ik7r: more candidate roots than ROOT_CAP; none is "
-                                               "dropped silently: please report the pose")
-                        roots[count] = K[L.KW] / v
-                        count += 1
+                u = least_abs(kd, lo + (hi - lo) * min(i, j) / m, lo + (hi - lo) * max(i, j) / m,
+                              p, a, K)
+                fu, mu = residual_of(kd, u, p, a, K)
+                if not (fu * fs[k, i] > 0.0 and abs(fu) < 0.5 * fa and abs(fu) < NEAR_RATIO * mu):
+                    continue  # the cell descends to the grid point: no dip of its own
+            seen = False
+            for j in range(n0, n1):  # (the minima found before, and their neighbours)
+                seen = seen or abs(K[L.KW] / roots[j] - u) < 0.5 * h
+            if seen:
+                continue
+            for v in (u, u - h, u + h):  # the minimum and starts on either side of it
+                if abs(v) > 1e-12:
+                    if count == roots.shape[0]:
+                        raise RuntimeError("ik7r: more candidate roots than ROOT_CAP; none is "
+                                           "dropped silently: please report the pose")
+                    roots[count] = K[L.KW] / v
+                    count += 1
     return count
+
+
+@njit
+def _root_side(f, mag, i, m):
+    """The neighbour of grid point ``i`` whose cell may hide a near miss beside a root: ``i``'s
+    other neighbour has the other sign (a root's cell), this one the sign of ``f[i]`` and a
+    larger magnitude, and ``|f[i]|`` is within NEAR_RATIO_ROOTSIDE of its terms ``mag[i]``; -1
+    when there is none (or ``i`` is an end of the grid). The grid reads such a cell as the
+    residual's descent to the root, while a cluster's near miss may lie inside it."""
+    if i <= 0 or i >= m or not abs(f[i]) < NEAR_RATIO_ROOTSIDE * mag[i]:
+        return -1
+    for j in (i - 1, i + 1):
+        o = 2 * i - j
+        if f[j] * f[i] > 0.0 and f[i] * f[o] < 0.0 and abs(f[j]) > abs(f[i]):
+            return j
+    return -1
 
 
 @njit

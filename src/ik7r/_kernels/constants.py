@@ -40,10 +40,17 @@ NEAR_RATIO_END = 1e-4
 #: singular-set poses, the fully bent wrist's answers moved by 2e-6 within its flat valley and
 #: its rows took 3 to 9 % longer.)
 NEAR_RATIO_FOLD_END = 1e-3
+#: A grid value beside a root's cell, of one sign with its other neighbour and below it, that is
+#: within this fraction of its terms: the cell on that side is searched for a minimum of its own
+#: (:func:`_near_misses`). A cluster (a near miss in the cell before a simple root) hides its dip
+#: there: a mirrored member with a lateral offset (deviating by 0.1 mm) read 1.5e-6 at the grid
+#: point, its near miss 8.9e-8 a third of a cell away, the source's among it (missed). Below 1e-5
+#: the test runs at 0.03 to 0.2 grid points a pose of the deviating benchmark robots.
+NEAR_RATIO_ROOTSIDE = 1e-5
 #: Most candidate roots of one pose: every bracket (24) may give REFINE_GRID + 2 candidates, and
-#: on a deviating model the near misses (:func:`_near_misses`) three starts per local minimum of
-#: each of up to three residuals on NEAR_GRID + 1 points (at most NEAR_GRID // 2 + 1 minima each).
-ROOT_CAP = 24 * (REFINE_GRID + 2) + 3 * 3 * (NEAR_GRID // 2 + 1)
+#: on a deviating model the near misses (:func:`_near_misses`) three starts per grid point of
+#: each of up to three residuals on NEAR_GRID + 1 points (a local minimum or a root's side each).
+ROOT_CAP = 24 * (REFINE_GRID + 2) + 3 * 3 * (NEAR_GRID + 1)
 #: solve_config skips candidates whose indicators differ beyond this margin (rad) from a
 #: boundary (larger for deviating models, whose polish moves the joints further).
 FILTER_MARGIN = 1e-3
