@@ -1507,6 +1507,18 @@ _INSIDE_THE_CYLINDER_MIRRORED = [  # mirrored, d5 = d6 < 0 (hunt seed 513): DH, 
      [-1.0, -1.0, -1.0, -1.0, 1.0, -1.0, -1.0], (1.0, -2.259677782557058),
      [1.928511124203192, 1.6794662901980661, 2.4603663909591065,
       -2.159421205594745, 2.724941512996893, 1.6231529704877325]),
+    # the first written with positive twists: the robot its table gave the solvers (and
+    # robot.fk) when the hunt found it, before frame_dh negated a4 .. a6 with the twists
+    ([[0.0, 0.0, 821.0, 0.43493604959698695],
+      [-229.0, -1.5708112763400897, 146.0, -0.5708971983273452],
+      [1044.0, 3.335602956874309e-06, 89.0, 1.8282323914640601],
+      [-156.0, 1.5708087601877794, 1491.0, -3.11803070868787],
+      [-0.024738923375206813, -0.5869603376682248, -81.99379840430174, 0.7120943348136863],
+      [0.010845119780213597, 1.1740875053701474, -81.97789947555891, -2.955715088252397],
+      [0.014732389602776574, -0.5869579229359096, 158.0, -1.5756832487004806]],
+     [1.0, -1.0, -1.0, -1.0, 1.0, -1.0, 1.0], (1.0, -2.2436207534387105),
+     [-0.36211691519762157, -2.506411978356753, 0.9469964677560636,
+      3.01124377408817, -0.31218819626556815, -0.8556363433332663]),
 ]
 
 
@@ -1516,34 +1528,17 @@ def test_line_of_centres_inside_the_cylinder_of_a_mirrored_member(dh, sign, coup
     (``d5 = d6`` about -82 and -122 mm; deviating by 0.025 mm): their range of d is negative, d
     running down from KW as theta5 grows, and the stretch of theta5 between the crossings came out
     reversed and was skipped: nothing answered at either pose. The stretch is now ordered: the
-    source among the answers, every answer exact, none twice (the second pose: every solution of
-    the reference too; the first: see the test below)."""
+    source and every solution of the reference among the answers, every answer exact, none twice.
+    (The first member's wrist has negative beta and offsets a4 .. a6 up to 0.025 mm. Until
+    frame_dh negated those offsets with the twists, ``robot.fk`` and the answers were of the
+    third table, and the reference, which solves the table as written, had a solution 0.007 rad
+    from the source in q1 that no answer held: a strict xfail, "a pair's partner", from the
+    eighth session of 2026-12-05 to the fourth of 2026-12-06.)"""
     robot = Robot(name="mirrored", dh=np.array(dh), joint_sign=np.array(sign), coupling=coupling)
     assert robot.family.deviation > 0.0 and robot.family.b != 0.0 and robot.family.d_range[1] < 0.0
     q = np.array(q)
-    if dh == _INSIDE_THE_CYLINDER_MIRRORED[1][0]:
-        assert_complete_once(robot, q, from_source=True)
-    else:
-        assert misses(robot, q[None]) == []
-        T = robot.fk(q)
-        assert answered_twice(robot, robot.ik_all(T), T) == []
-
-
-def test_pair_partner_inside_the_cylinder_of_a_mirrored_member():
-    """The first pose above: the reference's solution 0.007 rad from the source in q1, which no
-    answer held (a strict xfail, "a pair's partner", since the eighth session of 2026-12-05), was
-    no partner: the member's wrist has negative beta and offsets a4 .. a6 up to 0.025 mm, and the
-    solvers' frames turned its twists but not those offsets, so ``robot.fk`` and every answer
-    were of another robot than the table as written, which the reference solves. Now both are of
-    the table as written: every solution of the reference among the answers."""
-    dh, sign, coupling, q = _INSIDE_THE_CYLINDER_MIRRORED[0]
-    robot = Robot(name="mirrored", dh=np.array(dh), joint_sign=np.array(sign), coupling=coupling)
-    q = np.array(q)
-    T = robot.fk(q)
-    np.testing.assert_allclose(T, reference_fk(robot, q), rtol=0, atol=1e-9)
-    sols = robot.ik_all(T)
-    ref = reference_ik(robot, T, extra_starts=q[None])
-    assert [x.tolist() for x in ref if not among(robot, sols, x, T, tol=SOURCE_TOL)] == []
+    np.testing.assert_allclose(robot.fk(q), reference_fk(robot, q), rtol=0, atol=1e-9)
+    assert_complete_once(robot, q, from_source=True)
 
 
 _ROUNDED_ON_THE_CYLINDER = [  # rounded members with a lateral offset (hunt seed 643): DH, source
