@@ -69,16 +69,21 @@ def rpy_to_matrix(rpy: ArrayLike) -> np.ndarray:
 
 
 def matrix_to_rpy(R: ArrayLike) -> np.ndarray:
-    """Inverse of :func:`rpy_to_matrix`: ``(..., 3, 3)`` -> ``(..., 3)`` rad (pitch in [-pi/2, pi/2])."""
+    """Inverse of :func:`rpy_to_matrix`: ``(..., 3, 3)`` -> ``(..., 3)`` rad (pitch in [-pi/2, pi/2]).
+
+    Yaw is read first; pitch and roll then come from ``RotZ(-yaw) R = RotY(pitch) RotX(roll)``,
+    whose entries are of order one. Near gimbal lock (pitch about +-pi/2) yaw is ill-determined,
+    but its error is then a turn about x that roll takes up, so the angles give back ``R`` to
+    the rounding of its entries (reading roll from ``R``'s own entries, of order cos(pitch),
+    left errors up to 2e-12 there: the URDF writer puts every joint origin through this)."""
     R = np.asarray(R, dtype=float)
-    pitch = np.arctan2(-R[..., 2, 0], np.hypot(R[..., 0, 0], R[..., 1, 0]))
-    gimbal = np.hypot(R[..., 0, 0], R[..., 1, 0]) < 1e-12
-    roll = np.where(gimbal, 0.0, np.arctan2(R[..., 2, 1], R[..., 2, 2]))
-    yaw = np.where(
-        gimbal,
-        np.arctan2(-R[..., 0, 1], R[..., 1, 1]),
-        np.arctan2(R[..., 1, 0], R[..., 0, 0]),
-    )
+    yaw = np.arctan2(R[..., 1, 0], R[..., 0, 0])
+    cy, sy = np.cos(yaw), np.sin(yaw)
+    c_pitch = cy * R[..., 0, 0] + sy * R[..., 1, 0]  # (RotZ(-yaw) R)[0, 0], >= 0
+    c_roll = cy * R[..., 1, 1] - sy * R[..., 0, 1]  # (RotZ(-yaw) R)[1, 1]
+    s_roll = sy * R[..., 0, 2] - cy * R[..., 1, 2]  # -(RotZ(-yaw) R)[1, 2]
+    pitch = np.arctan2(-R[..., 2, 0], c_pitch)
+    roll = np.arctan2(s_roll, c_roll)
     return np.stack([roll, pitch, yaw], axis=-1)
 
 
