@@ -62,6 +62,39 @@ def family_robot(name, *, a1, a2, a3, d1, d2, d3, d4, beta_deg, d5, d6, d7, eps1
                  joint_names=tuple(f"j{k}" for k in range(1, 8)))
 
 
+def deviating_robot(rng, *, wrist_offset, twist_error, negative_a2=None, negative_beta=None,
+                    frames=True) -> Robot:
+    """A family member (mm) that deviates from the mirror: wrist offsets a4 .. a6 and d5 - d6 up
+    to ``wrist_offset``, every twist but alpha0 up to ``twist_error`` (rad) off; beta, the upper
+    arm, alpha1 and alpha3 of random signs (or beta < 0 and a2 < 0 as asked), random joint signs
+    and theta offsets with the coupling keeping theta6 = -theta5, and (``frames``) a random base
+    and tool within 500 mm."""
+    beta = rng.choice([-1.0, 1.0]) * math.radians(rng.uniform(15.0, 44.0))
+    e1, e3, sa2 = rng.choice([-1.0, 1.0], 3)
+    if negative_beta is not None:
+        beta = -abs(beta) if negative_beta else abs(beta)
+    if negative_a2 is not None:
+        sa2 = -1.0 if negative_a2 else 1.0
+    dw = rng.uniform(60.0, 150.0)
+    dh = np.array([[0.0, 0.0, rng.uniform(0, 800), 0.0],
+                   [rng.uniform(0, 300), e1 * math.pi / 2, rng.uniform(-150, 150), 0.0],
+                   [sa2 * rng.uniform(700, 1400), 0.0, rng.uniform(-150, 150), 0.0],
+                   [rng.uniform(-250, 250), e3 * math.pi / 2, rng.uniform(700, 1400), 0.0],
+                   [0.0, -beta, dw, 0.0], [0.0, 2 * beta, dw, 0.0], [0.0, -beta, rng.uniform(50, 200), 0.0]])
+    dh[4:7, 0] = rng.uniform(-wrist_offset, wrist_offset, 3)
+    dh[5, 2] += rng.uniform(-wrist_offset, wrist_offset)
+    dh[1:, 1] += rng.uniform(-twist_error, twist_error, 6)
+    dh[:, 3] = rng.uniform(-np.pi, np.pi, 7)
+    sign = rng.choice([-1.0, 1.0], 7)
+    coupling = (-sign[4] * sign[5], -(dh[4, 3] + dh[5, 3]) * sign[5])
+    base, tool = np.eye(4), np.eye(4)
+    if frames:
+        base, tool = random_transform(rng), random_transform(rng)
+        base[:3, 3] *= 1000.0
+        tool[:3, 3] *= 1000.0
+    return Robot(name="deviating", dh=dh, joint_sign=sign, coupling=coupling, base=base, tool=tool)
+
+
 def reference_robots() -> dict[str, Robot]:
     """Family members with other wrist angles, offsets, signs, couplings, bases and tools."""
     return {

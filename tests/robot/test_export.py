@@ -3,16 +3,21 @@
 from __future__ import annotations
 
 import json
-import math
 
 import numpy as np
 import pytest
-from _urdf_fixtures import SHARED_IRB5400, chain_urdf, random_transform, reference_robots, yourdfpy_fk
+from _urdf_fixtures import (
+    SHARED_IRB5400,
+    chain_urdf,
+    deviating_robot,
+    random_transform,
+    reference_robots,
+    yourdfpy_fk,
+)
 
 import ik7r
 from ik7r.cli.app import main
 from ik7r.robot.files import robot_from_toml, robot_in_unit
-from ik7r.robot.model import Robot
 from ik7r.robot.urdf import robot_from_urdf_string
 from ik7r.units import METRES_PER_UNIT
 
@@ -71,29 +76,9 @@ def test_urdf_round_trip(robot):
 
 
 def _deviating_member_in_random_frames(seed):
-    """A family member (mm) deviating from the mirror as far as the loader lets it (wrist offsets
-    a4 .. a6 up to 0.3 mm, d5 - d6 up to 0.3 mm, every twist up to 3e-4 rad off), either sign of
-    beta, of the upper arm and of alpha1 and alpha3, random joint signs, theta offsets, base and
-    tool (in metres: random_transform's reach of 0.5 times 1000)."""
-    rng = np.random.default_rng(seed)
-    beta = rng.choice([-1.0, 1.0]) * math.radians(rng.uniform(15.0, 44.0))
-    e1, e3, sa2 = rng.choice([-1.0, 1.0], 3)
-    dw = rng.uniform(60.0, 150.0)
-    dh = np.array([[0.0, 0.0, rng.uniform(0, 800), 0.0],
-                   [rng.uniform(0, 300), e1 * math.pi / 2, rng.uniform(-150, 150), 0.0],
-                   [sa2 * rng.uniform(700, 1400), 0.0, rng.uniform(-150, 150), 0.0],
-                   [rng.uniform(-250, 250), e3 * math.pi / 2, rng.uniform(700, 1400), 0.0],
-                   [0.0, -beta, dw, 0.0], [0.0, 2 * beta, dw, 0.0], [0.0, -beta, rng.uniform(50, 200), 0.0]])
-    dh[4:7, 0] = rng.uniform(-0.3, 0.3, 3)
-    dh[5, 2] += rng.uniform(-0.3, 0.3)
-    dh[1:, 1] += rng.uniform(-3e-4, 3e-4, 6)
-    dh[:, 3] = rng.uniform(-np.pi, np.pi, 7)
-    sign = rng.choice([-1.0, 1.0], 7)
-    coupling = (-sign[4] * sign[5], -(dh[4, 3] + dh[5, 3]) * sign[5])
-    base, tool = random_transform(rng), random_transform(rng)
-    base[:3, 3] *= 1000.0
-    tool[:3, 3] *= 1000.0
-    return Robot(name="deviating", dh=dh, joint_sign=sign, coupling=coupling, base=base, tool=tool)
+    """A member deviating as far as the loader lets it (wrist offsets up to 0.3 mm, twists up to
+    3e-4 rad off) in random frames (``deviating_robot``)."""
+    return deviating_robot(np.random.default_rng(seed), wrist_offset=0.3, twist_error=3e-4)
 
 
 @pytest.mark.parametrize("seed", [1, 2, 3, 4])

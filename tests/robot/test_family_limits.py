@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _urdf_fixtures import deviating_robot
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from reference_ik import among, family_member, singular_joints
@@ -253,19 +254,9 @@ def test_deviating_tables_keep_their_forward_kinematics_in_the_solvers_frames(se
     negative beta had its forward kinematics, and every answer, off by up to twice those
     lengths: 0.3 mm for a hunt member with a4 = 0.1.)"""
     rng = np.random.default_rng(seed)
-    dh = family_member(rng, beta_deg=rng.uniform(15.0, 44.0), lateral=bool(rng.integers(0, 2)))
-    if negative_a2:
-        dh[2, 0] = -dh[2, 0]
-    if negative_beta:
-        dh[4:7, 1] *= -1.0
-    dh[4:7, 0] = rng.uniform(-0.1, 0.1, 3)
-    dh[5, 2] += rng.uniform(-0.1, 0.1)
-    dh[:, 1] += rng.uniform(-1e-4, 1e-4, 7) * (np.arange(7) > 0)
-    dh[:, 3] = rng.uniform(-np.pi, np.pi, 7)
-    sign = rng.choice([-1.0, 1.0], 7)
-    m = -sign[4] * sign[5]
-    c = -(dh[4, 3] + dh[5, 3]) * sign[5]
-    robot = Robot(name="deviating", dh=dh, joint_sign=sign, coupling=(m, c))
+    robot = deviating_robot(rng, wrist_offset=0.1, twist_error=1e-4, negative_a2=negative_a2,
+                            negative_beta=negative_beta, frames=False)
+    dh, sign, (m, c) = np.array(robot.dh), robot.joint_sign, robot.coupling
     assert robot.family.deviation > 1e-5
     assert (robot.family.dh[2, 0] > 0) and robot.family.beta > 0  # (the frames were turned)
     Q = _sources(rng, 20)

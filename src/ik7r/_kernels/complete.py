@@ -219,10 +219,10 @@ def _near_misses(kind, lo, hi, p, a, K, roots, count):
                     if fu * fs[k, i] <= 0.0 or not (0 < i < m or abs(fu) < end * mu):
                         continue  # two real roots (the certified search has them), or an end clear of zero
             else:
-                j = _root_side(fs[k], ms[k], i, m)
-                if j < 0:
+                side = _root_side(fs[k], ms[k], i, m)
+                if side < 0:
                     continue
-                u = least_abs(kd, lo + (hi - lo) * min(i, j) / m, lo + (hi - lo) * max(i, j) / m,
+                u = least_abs(kd, lo + (hi - lo) * min(i, side) / m, lo + (hi - lo) * max(i, side) / m,
                               p, a, K)
                 fu, mu = residual_of(kd, u, p, a, K)
                 if not (fu * fs[k, i] > 0.0 and abs(fu) < 0.5 * fa and abs(fu) < NEAR_RATIO * mu):
