@@ -52,8 +52,9 @@ __all__ = [
 #: moves the chain by at most this times its reach (3e-13 m on a 3 m robot).
 PARALLEL_TOL = 1e-13
 #: A common normal farther than this many times the chain's size from the joints means two
-#: axes are nearly, but not exactly, parallel: the chain is rejected (it cannot be written in
-#: modified DH parameters without losing precision).
+#: axes are so nearly parallel that the normal's place is lost in the rounding of the lines:
+#: they are written as parallel, and the chain is rejected when that misses it by more than
+#: ``FK_CHECK_TOL`` (then it cannot be written in modified DH parameters without losing precision).
 FAR_NORMAL = 10.0
 #: After conversion the DH model's forward kinematics must match the URDF chain within this
 #: (rotation entries; positions relative to the chain's size plus 1 m), checked at load time.
@@ -382,13 +383,27 @@ def _check_chain_family(chain: UrdfChain) -> tuple[list[UrdfJoint], float, float
     return moving, m, c
 
 
+def _normal(u1, u2):
+    """``u1 x u2``, computed as ``u1 x (u2 - u1)``: the same vector, but with its relative
+    precision kept on nearly parallel axes (``u1 x u2`` there is a difference of nearly equal
+    products, off by 1e-16 absolute, which at 1e-8 rad turns the normal by 1e-8 rad)."""
+    return np.cross(u1, u2 - u1)
+
+
 def _foot(p1, u1, p2, u2):
-    """Parameters (t1, t2) of the feet of the common normal of two non-parallel lines."""
-    w = p1 - p2
-    b = float(u1 @ u2)
-    d, e = float(u1 @ w), float(u2 @ w)
-    den = 1.0 - b * b
-    return (b * e - d) / den, (e - b * d) / den
+    """Parameters (t1, t2) of the feet of the common normal of two non-parallel lines.
+
+    With ``n = u1 x u2`` and ``w = p2 - p1``: ``t1 = (w x u2) . n / |n|^2`` and
+    ``t2 = (w x u1) . n / |n|^2``, each factor computed directly (see :func:`_normal`). On
+    nearly parallel axes the feet are ill-conditioned in the lines (they move by
+    ``a delta / alpha^2`` for a turn ``delta`` of an axis): they must be exact for the lines as
+    given. (The form with ``1 - (u1 . u2)^2`` kept five digits of its denominator at 5e-6 rad,
+    and the frames built on its feet missed the chain by 1e-12 of its size.)
+    """
+    n = _normal(u1, u2)
+    nn = float(n @ n)
+    w = p2 - p1
+    return float(np.cross(w, u2) @ n) / nn, float(np.cross(w, u1) @ n) / nn
 
 
 def _unit(v):
@@ -433,7 +448,7 @@ def _forearm_sign(points: np.ndarray, u: np.ndarray, default: float) -> float:
     3-4) along the URDF direction of axis 4, else -1 (``default`` when undecided)."""
     t = []
     for k in (2, 4):
-        if np.linalg.norm(np.cross(u[3], u[k])) <= PARALLEL_TOL:
+        if np.linalg.norm(_normal(u[3], u[k])) <= PARALLEL_TOL:
             return default
         t.append(_foot(points[3], u[3], points[k], u[k])[0])
     return _sign(t[1] - t[0], default)
@@ -464,11 +479,15 @@ def _joint_signs(points: np.ndarray, u: np.ndarray, pref: np.ndarray, m: float) 
     return best
 
 
-def _dh_from_lines(points, dirs, sign, T_base_tip, names, size, source):
+def _dh_from_lines(points, dirs, sign, T_base_tip, size):
     """Modified DH frames on the axis lines (zero posture, base link coordinates).
 
-    Returns ``(dh (7, 4) with the zero-posture angles in the offset column, base, tool)``.
+    Returns ``(dh (7, 4) with the zero-posture angles in the offset column, base, tool, far)``,
+    ``far`` listing ``(i, sin, distance)`` for each pair of axes i, i + 1 (from 0) so nearly
+    parallel that their common normal lies beyond ``FAR_NORMAL`` times the size (they are
+    written as parallel; the caller's check of the forward kinematics decides).
     """
+    far: list[tuple[int, float, float]] = []
     z = [sign[i] * dirs[i] for i in range(7)]
     # frame 0 on axis 1, nearest the base link origin; x0 along the base link's x
     o_prev = points[0] - (points[0] @ z[0]) * z[0]
@@ -483,24 +502,22 @@ def _dh_from_lines(points, dirs, sign, T_base_tip, names, size, source):
             x = _perp_unit(T_base_tip[:3, 0], z[6], T_base_tip[:3, 1])
             frames.append((x, z[6], o))
             break
-        cross = np.cross(z[i], z[i + 1])
+        cross = _normal(z[i], z[i + 1])
         sin = float(np.linalg.norm(cross))
-        if sin <= PARALLEL_TOL:
-            # parallel: put frame i where the previous normal meets axis i (d_i = 0)
+        t1 = t2 = 0.0
+        if sin > PARALLEL_TOL:
+            t1, t2 = _foot(points[i], z[i], points[i + 1], z[i + 1])
+            if max(abs(t1), abs(t2)) > FAR_NORMAL * size:
+                far.append((i, sin, max(abs(t1), abs(t2))))
+        if sin <= PARALLEL_TOL or far and far[-1][0] == i:
+            # parallel, or so nearly that the common normal's place is lost in the rounding of
+            # the lines (see _foot): frame i where the previous normal meets axis i (d_i = 0),
+            # x_i towards the nearest point of axis i + 1 (the check below bounds the error)
             o = points[i] + ((o_prev - points[i]) @ z[i]) * z[i]
-            gap = points[i + 1] - o
+            gap = points[i + 1] + ((o - points[i + 1]) @ z[i + 1]) * z[i + 1] - o
             gap = gap - (gap @ z[i]) * z[i]
             x = _unit(gap) if np.linalg.norm(gap) > 1e-12 * size else x_prev
         else:
-            t1, t2 = _foot(points[i], z[i], points[i + 1], z[i + 1])
-            near = max(abs(t1), abs(t2))
-            if near > FAR_NORMAL * size:
-                raise FamilyError(
-                    f"{source}: the axes of joints {names[i]!r} and {names[i + 1]!r} are almost but not "
-                    f"exactly parallel ({math.degrees(math.asin(min(sin, 1.0))):.3g} deg): their common "
-                    f"normal lies {near:.3g} m away, so the chain cannot be written exactly in modified DH "
-                    f"parameters; make them parallel (ik7r takes axes within {PARALLEL_TOL:g} rad as "
-                    "parallel)")
             o = points[i] + t1 * z[i]
             n = cross / sin
             if i in wrist_sigma:
@@ -520,7 +537,7 @@ def _dh_from_lines(points, dirs, sign, T_base_tip, names, size, source):
         step = o - op
         a = float(step @ xp)
         d = float(step @ zi)
-        alpha = math.atan2(float(np.cross(zp, zi) @ xp), float(zp @ zi))
+        alpha = math.atan2(float(_normal(zp, zi) @ xp), float(zp @ zi))
         theta = math.atan2(float(np.cross(xp, x) @ zi), float(xp @ x))
         dh[i - 1] = (_tidy(a, 1e-15 * size), _tidy(alpha, 1e-15), _tidy(d, 1e-15 * size), _tidy(theta, 1e-15))
     dh[0, :2] = 0.0  # frame 0 is on axis 1 with z0 = z1 by construction (this only drops float noise)
@@ -530,7 +547,7 @@ def _dh_from_lines(points, dirs, sign, T_base_tip, names, size, source):
         T[:3, :3][np.abs(T[:3, :3]) < 1e-15] = 0.0
         T[:3, 3][np.abs(T[:3, 3]) < 1e-15 * size] = 0.0
         T[3] = (0.0, 0.0, 0.0, 1.0)
-    return dh, base, tool
+    return dh, base, tool, far
 
 
 #: Largest coordinate (in the file's unit) of a joint origin in the zero posture that the loader
@@ -576,7 +593,7 @@ def robot_from_chain(chain: UrdfChain) -> Robot:
             f"{src}: joint {names[5]!r} mimics {names[4]!r} with multiplier {m:g}, which with these axis "
             f"directions turns the wrist the same way as joint {names[4]!r} instead of mirroring it; a "
             f"mirror wrist needs multiplier {-m:g}")
-    dh, base, tool = _dh_from_lines(points, dirs, sign, T_base_tip, names, size, src)
+    dh, base, tool, far_normals = _dh_from_lines(points, dirs, sign, T_base_tip, size)
     dh[5, 3] -= sign[5] * c  # theta6 = s6 q6 + offset6, and q6 = c in the zero posture
     lower = np.array([-math.pi if j.lower is None else j.lower for j in moving])
     upper = np.array([math.pi if j.upper is None else j.upper for j in moving])
@@ -593,7 +610,7 @@ def robot_from_chain(chain: UrdfChain) -> Robot:
         raise FamilyError(f"{src}: {exc}") from exc
     except ValueError as exc:
         raise RobotFileError(f"{src}: {exc}") from exc
-    _check_fk(robot, chain, size)
+    _check_fk(robot, chain, size, names, far_normals)
     return robot
 
 
@@ -611,7 +628,8 @@ def dh_fk(robot: Robot, q) -> np.ndarray:
     return T @ robot.tool
 
 
-def _check_fk(robot: Robot, chain: UrdfChain, size: float) -> None:
+def _check_fk(robot: Robot, chain: UrdfChain, size: float, names: tuple[str, ...],
+              far_normals: list[tuple[int, float, float]]) -> None:
     rng = np.random.default_rng(0)
     q = rng.uniform(-math.pi, math.pi, (16, 6))
     m, c = robot.coupling
@@ -619,9 +637,18 @@ def _check_fk(robot: Robot, chain: UrdfChain, size: float) -> None:
     err = np.abs(dh_fk(robot, q) - chain.transforms(q7))
     err[:, :3, 3] /= size + 1.0
     worst = float(err.max())
-    if worst > FK_CHECK_TOL:
-        raise FamilyError(f"{chain.source}: the chain could not be written exactly in modified DH parameters "
-                          f"(forward kinematics differ by {worst:.3g} relative to its size)")
+    if worst <= FK_CHECK_TOL:
+        return
+    if far_normals:
+        i, sin, near = far_normals[0]
+        raise FamilyError(
+            f"{chain.source}: the axes of joints {names[i]!r} and {names[i + 1]!r} are almost but not "
+            f"exactly parallel ({math.degrees(math.asin(min(sin, 1.0))):.3g} deg): their common normal "
+            f"lies {near:.3g} m away, and written as parallel they miss the chain by {worst:.3g} relative "
+            f"to its size, so the chain cannot be written exactly in modified DH parameters; make them "
+            f"parallel (ik7r takes axes within {PARALLEL_TOL:g} rad as parallel)")
+    raise FamilyError(f"{chain.source}: the chain could not be written exactly in modified DH parameters "
+                      f"(forward kinematics differ by {worst:.3g} relative to its size)")
 
 
 def robot_from_urdf_string(text: str | bytes, *, base: str | None = None, tip: str | None = None,
