@@ -3,7 +3,9 @@
 Public API only. For each robot: poses from uniform joints, and poses on the singular sets
 (straight wrist q5 = 0 and within 1e-9 .. 1e-3 of it, fully bent wrist near q5 = 180 deg,
 stretched elbow), and for robots without lateral offset poses whose axis 7 (the line of
-virtual wrist centres) passes 1e-9 .. 1e-3 of the size from axis 1 (``near_shoulder``). Prints
+virtual wrist centres) passes 1e-9 .. 1e-3 of the size from axis 1 (``near_shoulder``); for the
+rounded robot with a lateral offset, poses with the virtual centre on the offset's cylinder and
+1e-9 .. 1e-3 of the size beside it (``cylinder``, half each). Prints
 median, 99th percentile and worst time per call of ``robot.ik_all(T)`` (each pose the least of
 REPEATS calls) and how many source joint vectors were not among the answers (by the tests'
 independent reference, ``tests/reference_ik.py``'s ``among``: within 1e-6 rad in every joint, or
@@ -26,17 +28,17 @@ import ik7r
 from ik7r.robot import Robot
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from reference_ik import among  # noqa: E402  (the tests' reference judges what was found)
+from reference_ik import among, singular_joints  # noqa: E402  (the tests' reference judges what was found)
 
 
 def _wrap(x):
     return np.pi - np.mod(np.pi - np.asarray(x), 2 * np.pi)
 
 
-def _generated(beta_deg: float, a1: float, a3: float, name: str) -> Robot:
-    """A family member with offsets (mm), exact (not deviating)."""
+def _generated(beta_deg: float, a1: float, a3: float, name: str, lateral: float = 0.0) -> Robot:
+    """A family member with offsets (mm), exact (not deviating); ``lateral``: its offset d2."""
     b = math.radians(beta_deg)
-    dh = np.array([[0, 0, 400, 0], [a1, math.pi / 2, 0, 0], [1100, 0, 0, 0], [a3, math.pi / 2, 1200, 0],
+    dh = np.array([[0, 0, 400, 0], [a1, math.pi / 2, lateral, 0], [1100, 0, 0, 0], [a3, math.pi / 2, 1200, 0],
                    [0, -b, 90, 0], [0, 2 * b, 90, 0], [0, -b, 110, 0]], float)
     return Robot(name=name, dh=dh)
 
@@ -103,6 +105,39 @@ def _lateral(robot: Robot) -> bool:
     return abs(robot.dh[1][2] + robot.dh[2][2]) > 0.0
 
 
+def _cylinder_poses(robot: Robot, rng, n: int) -> np.ndarray:
+    """A robot with a lateral offset: joints with the virtual centre on the offset's cylinder
+    (the arm's shoulder set) and 1e-9 .. 1e-3 of the size beside it, half each (the tests'
+    ``reference_ik.singular_joints``)."""
+    return np.concatenate([singular_joints(robot, rng, "shoulder", n // 2),
+                           singular_joints(robot, rng, "near_shoulder", n - n // 2)])
+
+
+def _rows(robot: Robot) -> tuple[str, ...]:
+    """The kinds of poses timed on ``robot``."""
+    if not _lateral(robot):
+        return ("random", "singular", "near_shoulder")
+    return ("random", "singular") + (("cylinder",) if robot.family.deviation > 0.0 else ())
+
+
+def _poses(robot: Robot, kind: str, rng, near_rng, n: int) -> np.ndarray:
+    if kind == "random":
+        return rng.uniform(-np.pi, np.pi, (n, 6))
+    if kind == "singular":
+        return _singular_poses(robot, rng, n)
+    if kind == "near_shoulder":
+        return _near_shoulder_poses(robot, near_rng, n)
+    return _cylinder_poses(robot, near_rng, n)
+
+
+def robots() -> list[Robot]:
+    """The robots of the rows (the last added last, so that the rows before draw what they drew)."""
+    return [ik7r.load_robot(), ik7r.load_robot("irb5400"), _generated(35, 250, 150, "offsets_b35"),
+            _generated(45, 250, 150, "offsets_b45"), _rounded(_generated(35, 250, 150, "x"), "rounded_b35"),
+            _rounded(_generated(45, 250, 150, "x"), "rounded_b45"),
+            _rounded(_generated(35, 250, 150, "x", lateral=60.0), "rounded_lat60")]
+
+
 def _found(robot: Robot, sols: np.ndarray, q: np.ndarray, T: np.ndarray) -> bool:
     """Whether the source ``q`` of the pose ``T`` is among the answers: the tests' independent
     reference decides (``reference_ik.among``: every joint within 1e-6 rad, or one solution with
@@ -137,20 +172,16 @@ def main(argv: list[str]) -> int:
     n = int(argv[0]) if argv else 2000
     rng = np.random.default_rng(12)
     near_rng = np.random.default_rng(13)  # (its own stream: the other rows draw what they drew before)
-    paper = ik7r.load_robot()
-    robots = [paper, ik7r.load_robot("irb5400"), _generated(35, 250, 150, "offsets_b35"),
-              _generated(45, 250, 150, "offsets_b45"), _rounded(_generated(35, 250, 150, "x"), "rounded_b35"),
-              _rounded(_generated(45, 250, 150, "x"), "rounded_b45")]
+    rows = robots()
     print(f"ik_all per call, {n} poses per row (us); missed = sources not among the answers")
     print(f"{'robot':14s} {'poses':13s} {'median':>8s} {'p99':>8s} {'max':>9s} {'missed':>7s}")
-    for robot in robots:
-        for kind in ("random", "singular") + (() if _lateral(robot) else ("near_shoulder",)):
-            Q = (rng.uniform(-np.pi, np.pi, (n, 6)) if kind == "random" else _singular_poses(robot, rng, n)
-                 if kind == "singular" else _near_shoulder_poses(robot, near_rng, n))
+    for robot in rows:
+        for kind in _rows(robot):
+            Q = _poses(robot, kind, rng, near_rng, n)
             t, missed = _time(robot, Q)
             print(f"{robot.name:14s} {kind:13s} {1e6 * np.median(t):8.1f} {1e6 * np.percentile(t, 99):8.1f} "
                   f"{1e6 * t.max():9.1f} {missed:7d}")
-    _known_hard(robots)
+    _known_hard(rows)
     _round_trip(ik7r.load_robot("irb5400"), np.random.default_rng(12), 100_000)
     return 0
 

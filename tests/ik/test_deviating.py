@@ -1464,6 +1464,81 @@ def test_near_miss_in_the_cell_before_a_simple_root():
     assert_complete_once(robot, q, at_least=7, from_source=True)
 
 
+#: Members beside the lateral offset's cylinder (hunt seeds 711 and 707, ``--frames mirror
+#: --lateral --lateral-shoulder --deviate 0.1``, members 1, 6 and 9, base and tool frames dropped,
+#: the misses stay; and seed 722, ``--kinds shoulder,near_shoulder --lateral --lateral-shoulder
+#: --deviate 0.1``, member 15, and seed 729, member 9): (id, dh, joint_sign, coupling, source).
+BESIDE_THE_CYLINDER = [
+    ("b-40_nearly_folded",  # the line 0.26 mm outside the cylinder at the range's end, source near the fold
+     [[0.0, 0.0, 498.0, 1.5812683023068625], [138.0, -1.5708255388819286, -16.0, 2.887996313275017],
+      [-1169.0, -1.1006770420167164e-05, -24.0, -0.48048914307403895],
+      [-186.0, -1.5707876845178803, 1380.0, 0.4410447019789671],
+      [-0.13463149594487844, 0.2729849549279781, 82.94093712293812, -2.3739968485626872],
+      [0.0916688132012567, -0.5459324308914834, 82.98162967629611, -0.14032447186034408],
+      [-0.1072842171413627, 0.2729846309355942, 60.0, 0.7045894190301107]],
+     [-1.0, 1.0, -1.0, 1.0, -1.0, 1.0, 1.0], (1.0, 2.5143213204230315),
+     [-0.7406393639446867, 0.3970409888377331, 1.8709031504880846, -2.5884762793863256, 0.8678422806350898,
+      1.0173054385987115]),
+    ("b63_grazing",  # 45 deg twists; the line grazes the cylinder (0.01 mm outside), source 0.10 mm out
+     [[0.0, 0.0, 492.0, 2.970375853969149], [282.0, 1.570816328427324, 142.0, -1.9908970777499317],
+      [1350.0, 1.0318019304920587e-05, -79.0, -3.132866007329821],
+      [-225.0, -1.5708353562535762, 862.0, -1.9795524376119686],
+      [0.0011120786150670156, 0.7853776066596856, -64.95066826500921, -1.6732471538869638],
+      [0.017142061028819214, -1.5707641668205983, -64.99116542322442, 1.2185888837424408],
+      [-0.0844076726871042, 0.785386662681011, -164.0, -1.1939797412893207]],
+     [-1.0, -1.0, 1.0, -1.0, -1.0, -1.0, 1.0], (-1.0, -0.454658270144523),
+     [-1.9256526853042013, 2.312654679166916, -2.5979498644786325, 2.7160982911471176, 1.9036483426035895,
+      2.919629780294333]),
+    ("b-12_grazing",  # 45 deg twists; the line 0.18 mm outside the cylinder, source 0.19 mm out
+     [[0.0, 0.0, 505.0, -1.1168361883511715], [-298.0, -1.5708070052763548, -127.0, 1.6667894356545847],
+      [-995.0, 4.5035943395368455e-05, 115.0, 2.904576941168963],
+      [-2.0, 1.5707750920910826, 1303.0, -2.596177262341565],
+      [-0.08065775149600608, -0.7854024589565662, -106.02902166947004, -1.49888876161273],
+      [0.014600347991115377, 1.5707950848334444, -105.99576689128038, -1.1294025589655305],
+      [-0.10636477187046711, -0.7853962922741112, 185.0, -2.832669375986797]],
+     [-1.0, 1.0, -1.0, -1.0, -1.0, 1.0, 1.0], (1.0, 2.6282913205782608),
+     [-3.0035937218290503, 2.7478759165887308, 0.41515394681794326, 1.5346450503939355, 2.129686805028702,
+      1.3527983159287804]),
+    ("b-151_far_fold",  # 45 deg twists; the source at d = 9.9e5 (the fold), 0.85 rad from the nearer middle
+     [[0.0, 0.0, 500.0, 0.0], [186.0, -1.5707812735018305, -100.0, 0.0],
+      [1286.0, -1.9734801325883823e-05, -51.0, 0.0], [152.0, -1.570802055569319, 1045.0, 0.0],
+      [-0.08094183407771435, -0.7854096719656978, 103.95209551949446, -4.454317411319453e-05],
+      [-0.09509668815658454, 1.5707840577947587, 104.02972497882146, 0.0],
+      [0.12460400671076974, -0.7854075801465575, 170.0, 0.0]],
+     [1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0], (-1.0, 0.0),
+     [0.41273845759328065, -2.3376836366188956, 2.3371982709576926, 1.5897216229199875, 3.1243977293089853,
+      2.483466279185743]),
+    ("b-44_at_the_stretch",  # 45 deg twists; the source's only solution beyond the nominal branch's end
+     [[0.0, 0.0, 553.0, 0.0], [196.0, 1.5708127357849213, 61.0, 0.0],
+      [1396.0, 3.044351881791249e-05, -105.0, 0.0], [250.0, -1.5708166062157363, 1005.0, 0.0],
+      [0.05775509381162515, -0.7853990439343389, 91.05542805977655, -8.185090025303634e-06],
+      [0.02598229478537481, 1.570787662298264, 91.0576357380176, 0.0],
+      [0.11691774044271043, -0.7853831457153686, 72.0, 0.0]],
+     [1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0], (-1.0, 0.0),
+     [1.835553200148338, 1.651709597607012, -1.3474353979359748, -1.3614818667573179, -0.5070846390083577,
+      2.5440138056031083]),
+]
+
+
+@pytest.mark.parametrize("case", BESIDE_THE_CYLINDER, ids=[c[0] for c in BESIDE_THE_CYLINDER])
+def test_beside_the_lateral_offsets_cylinder_the_exact_model_is_tracked_in_q1(case):
+    """Members with a lateral offset (b = -40, 63, -12, -151 and -44 mm), deviating by 0.08 to
+    0.13 mm, whose line of virtual centres passes 0.01 to 0.26 mm outside the offset's cylinder
+    (the arm's shoulder set), or crosses it where the deviation moves the centre by millimetres
+    (d near 1e6, a 45 deg twist's fold), or crosses it where the nominal arm's elbow is at its
+    stretch: the shoulder branches' theta1 moves by ``sqrt(2 e / abs(b))`` for a centre moved
+    by ``e``, and the exact solutions lie 0.1 to 0.9 rad from the nominal ones, where the
+    nominal gap leaves no root or near miss (or no branch). Before, 2 of 3, 4 of 6, 11 of 12, 8
+    of 9 and 0 of 1 of the reference's solutions were answered, the source missed each time.
+    The exact model is now tracked in q1 beside the cylinder (``scans._cylinder_exact``): the
+    source and every solution of the reference among the answers, every answer exact, none
+    twice."""
+    _, dh, sign, coupling, q = case
+    robot = Robot(name="cylinder", dh=np.array(dh), joint_sign=np.array(sign), coupling=coupling)
+    assert robot.family.b != 0.0 and robot.family.deviation > 0.08
+    assert_complete_once(robot, q, at_least=1, from_source=True)
+
+
 def test_shoulder_set_of_a_robot_whose_wrist_offsets_are_negative():
     """A member written in mirrored frames with negative wrist offsets (d5 = d6 = -77), its wrist
     twists rounded to 0.01 deg (1.2e-4 rad off; hunt seed 509, ``--frames mirror``), the line of

@@ -37,6 +37,7 @@ from .constants import (
     GAP_NEAR_DEPTH,
     GAP_NEAR_END,
     GAP_NEAR_GRID,
+    LATERAL_SHOULDER_DEVIATING,
     MAT_M,
     MAT_Q,
     NEAR_SINGULAR,
@@ -104,6 +105,7 @@ from .joints import arm_frame, arm_may_match, filter_margin, with_fold_wrist, wi
 from .reduced import reduced_scan
 from .singular import (
     cylinder_crossings,
+    cylinder_offset,
     d_near_range,
     fold_snap,
     line_to_axis1,
@@ -304,7 +306,94 @@ def lateral_crossings(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, ma
         if d_near_range(d, K):
             count = solutions_at(min(K[L.DMAX], max(K[L.DMIN], d)), p, a, R07, Td, K, hint, has_hint,
                                  out, count, filt, ws, mats)
-    return _lateral_inside(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+    count = _lateral_inside(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
+    return _cylinder_exact(p, a, R07, Td, K, hint, out, count, ws, mats)
+
+
+@njit
+def _cylinder_exact(p, a, R07, Td, K, hint, out, count, ws, mats):
+    """Beside the lateral offset's cylinder, on a model that deviates from the idealised one:
+    every exact solution near the merged shoulder branch in q1 (see below), where the
+    line of virtual centres passes within SHOULDER_EXACT_FAR of the cylinder (the measure of
+    :func:`shoulder_offset`) at a crossing taken into the range of d, or where it crosses
+    nowhere so near, at its closest approach to axis 1 taken into the range. (The scans follow
+    the exact model's curves in q1, whatever d their points have: a source at the straight
+    wrist's end of the range was found from the closest approach 7 mm of d away; the closest
+    approach beside a crossing found nothing the crossings did not, on 14 missed sources.)
+
+    There the shoulder branches' theta1 moves by about ``sqrt(2 e / abs(b))`` for a centre moved
+    by ``e``: the deviation (a tenth of a millimetre) moves the exact solutions 0.1 to 0.2 rad
+    from the nominal ones, and the nominal gap, whose two branches have gaps of opposite signs
+    that meet at the cylinder, leaves no root or near miss to start from (members with b = -40
+    and 63 mm, the line 0.28 and 0.10 mm outside the cylinder, a wrist nearly fully bent: two of
+    three and two of six solutions missed). As in :func:`_shoulder_exact`, the exact model's
+    reduced residual in q1 is tracked (:func:`_q1_scans`, both wrist signs) from the nominal arm
+    with the centre taken onto the cylinder (:func:`_cylinder_arm`), each way from their middle
+    to beyond either branch by SHOULDER_REACH, or by ``sqrt(2 e / abs(b))`` (at most pi) where
+    that is larger, ``e`` how far the deviation may move the centre there (its
+    ``deviation_effect`` tolerances, times ``d / size`` beyond the size, as
+    :func:`shoulder_offset` measures): a 45 deg member's source at d = 9.9e5 lay 0.85 rad from
+    the nearer middle. (Where the offset is as small as the
+    deviation's reach, :func:`small_lateral_turn`, the whole turn is tracked by
+    :func:`scan_shoulder` instead.)"""
+    if K[L.B] == 0.0 or a[0] * a[0] + a[1] * a[1] < 1e-24 or small_lateral_turn(p, a, K):
+        return count
+    d1, d2 = cylinder_crossings(p, a, K)
+    t, _ = line_to_axis1(p, a)
+    th = ws[W_TH:W_TH + NTH]
+    done = math.nan
+    for k in range(3):
+        d = d1 if k == 0 else d2 if k == 1 else t - K[L.D7]
+        if k == 2 and math.isfinite(done):
+            break  # (the closest approach only where no crossing was scanned)
+        if not math.isfinite(d):
+            continue
+        d = min(K[L.DMAX], max(K[L.DMIN], d))
+        if d == done or cylinder_offset(d, p, a, K) > SHOULDER_EXACT_FAR:
+            continue
+        done = d
+        t5 = theta5_cs_of_d(d, K)[0]
+        # how far the deviation may move the virtual centre there (the measure of shoulder_offset)
+        moved = K[L.DEVIATION_EFFECT] * K[L.POS_TOL] * max(1.0, abs(d) / K[L.SCALE])
+        for elbow in (1.0, -1.0):
+            t1a, t1b, ok = _cylinder_arm(t5, p, a, elbow, K, th)
+            if not ok:
+                continue
+            half = 0.5 * abs(wrap(t1a - t1b))
+            mid = t1b + 0.5 * wrap(t1a - t1b)
+            reach = half + min(math.pi, max(SHOULDER_REACH, math.sqrt(2.0 * moved / abs(K[L.B]))))
+            cells = int(math.ceil(SHOULDER_CELLS * reach / SHOULDER_REACH))
+            arm_frame(th, R07, K, ws, mats)
+            q1 = ws[W_Q6]
+            count = _q1_scans(th, wrap(user_angle(0, mid - reach, K) - q1),
+                              wrap(user_angle(0, mid + reach, K) - q1), cells, Td, K, hint, out, count,
+                              ws, mats)
+    return count
+
+
+@njit
+def _cylinder_arm(t5, p, a, elbow, K, th):
+    """The start of :func:`_cylinder_exact` on the elbow branch ``elbow`` at wrist angle ``t5``:
+    ``th`` the nominal arm with a centre inside the cylinder taken onto it (``gap``'s front 5:
+    shoulder branch 1, or -1 where 1 does not reach), and theta1 of both shoulder branches (one
+    twice where only one reaches). Where neither reaches (the elbow at its stretch beside the
+    cylinder, within the deviation of the exact model's reach), the nearest arm of branch 1 when
+    it misses by less than SHOULDER_TURN_SLACK in the elbow's cosine, as for the whole turn
+    (a 45 deg member's only solution, 0.19 mm inside the cylinder, its nominal branch ending at
+    theta5 = 0.515 and the source at 0.507: nothing answered). Returns ``(t1a, t1b, ok)``."""
+    _, ok_b = gap(t5, p, a, -5.0, elbow, K, th)
+    t1b = math.atan2(th[3], th[0])
+    _, ok_a = gap(t5, p, a, 5.0, elbow, K, th)
+    t1a = math.atan2(th[3], th[0])
+    if ok_a:
+        return t1a, t1a if not ok_b else t1b, True
+    if ok_b:
+        gap(t5, p, a, -5.0, elbow, K, th)
+        return t1b, t1b, True
+    _, ok = bend_gap(t5, p, a, 1.0, elbow, K, th, 0.0, False, SHOULDER_TURN_SLACK,
+                     LATERAL_SHOULDER_DEVIATING * K[L.SCALE])
+    t1a = math.atan2(th[3], th[0])
+    return t1a, t1a, ok
 
 
 @njit

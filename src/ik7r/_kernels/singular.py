@@ -4,9 +4,10 @@ line of virtual wrist centres (``p``, ``a``: frame 7's origin and axis in the ba
 Small predicates the scans share: the fold of a (nearly) 45 deg twist (``u_fold``,
 ``fold_snap``), the line's distance from axis 1 (``line_to_axis1``, ``shoulder_offset``),
 whether the whole turn of joint 1 is scanned there (``turn_scanned``), where it crosses a
-lateral offset's cylinder (``cylinder_crossings``), whether an arm is near the shoulder set or
-has its elbow near stretched (``near_shoulder``, ``near_stretch``), and whether the model's
-straight wrist is a circle (``straight_circle``).
+lateral offset's cylinder and how far from it it runs (``cylinder_crossings``,
+``cylinder_offset``), whether an arm is near the shoulder set or has its elbow near stretched
+(``near_shoulder``, ``near_stretch``), and whether the model's straight wrist is a circle
+(``straight_circle``).
 """
 
 from __future__ import annotations
@@ -90,6 +91,16 @@ def cylinder_crossings(p, a, K):
         return math.nan, math.nan
     q = -0.5 * (qb + math.copysign(math.sqrt(disc), qb))  # (the two roots without cancellation)
     return q / qa - K[L.D7], (qc / q if q != 0.0 else math.nan) - K[L.D7]
+
+
+@njit
+def cylinder_offset(d, p, a, K):
+    """The line of virtual centres' distance at ``d`` from the lateral offset's cylinder (radius
+    abs(b) about axis 1), in the measure of :func:`shoulder_offset` (:func:`_relative_offset`)."""
+    t = K[L.D7] + d
+    px = p[0] - t * a[0]
+    py = p[1] - t * a[1]
+    return _relative_offset(abs(math.hypot(px, py) - abs(K[L.B])), t, K)
 
 
 @njit

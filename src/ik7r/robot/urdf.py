@@ -479,7 +479,8 @@ def _joint_signs(points: np.ndarray, u: np.ndarray, pref: np.ndarray, m: float) 
     return best
 
 
-def _dh_from_lines(points, dirs, sign, T_base_tip, size):
+def _dh_from_lines(points: np.ndarray, dirs: np.ndarray, sign: np.ndarray, T_base_tip: np.ndarray,
+                   size: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[tuple[int, float, float]]]:
     """Modified DH frames on the axis lines (zero posture, base link coordinates).
 
     Returns ``(dh (7, 4) with the zero-posture angles in the offset column, base, tool, far)``,
