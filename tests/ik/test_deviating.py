@@ -350,6 +350,27 @@ def test_near_shoulder_partner_in_the_first_cell():
     assert _reference_missed(robot, q) == []
 
 
+def test_partner_beside_a_stretched_elbow_of_a_member_that_deviates_far():
+    """A member with a lateral offset of -88 mm whose wrist offsets reach 0.44 mm (hunt seed 730,
+    ``--lateral --lateral-shoulder --deviate 0.3``, member 5; base and tool dropped): its
+    deviation reaches 4.7 times as far as the published models'. Beside a stretched elbow an
+    answer's Jacobian is nearly singular (smallest singular value 9e-5 of the largest) and its
+    partner, the source, lies 0.45 to 0.6 rad along the singular vector, beyond PARTNER_REACH:
+    missed (3 answers). The partners' reach and cells now widen with the deviation as the
+    shoulder windows do (``singular.deviation_widening``): the source and every solution of the
+    reference among the answers."""
+    dh = np.array([[0.0, 0.0, 874.0, 0.0], [105.0, -1.5706943875515023, 3.0, 0.0],
+                   [1330.0, -7.179343251481618e-06, -91.0, 0.0], [229.0, -1.570881311417637, 1213.0, 0.0],
+                   [0.43676669901209025, -0.40911976075984025, 102.87051069107031, 3.695071327774782e-05],
+                   [0.37062007477861864, 0.8182691633131265, 102.90536595526883, 0.0],
+                   [-0.31821898072170257, -0.40913745725649253, 83.0, 0.0]])
+    robot = Robot(name="far", dh=dh, coupling=(-1.0, 0.0))
+    assert robot.family.deviation > 0.4
+    q = [-0.5705335605502087, -2.3965425264053133, 1.744081732660931, -1.228043565379764,
+         -0.3412115366968651, -2.4355683492874967]
+    assert_complete_once(robot, q, at_least=4, from_source=True)
+
+
 def test_near_shoulder_arm_just_out_of_reach():
     """The rounded 45 deg robot, the line of virtual centres 1.1e-3 mm from axis 1 and the
     nominal arm 0.026 mm short of reaching its centre folded (the elbow's cosine -1 - 7.2e-6),

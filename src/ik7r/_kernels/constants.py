@@ -399,7 +399,8 @@ CLOSED_TOL = 1e-4
 NFAMILIES = 8
 #: Deviating models: a solution whose Jacobian's smallest singular value (position rows over the
 #: robot's size, relative to the largest) is below this may have a partner the idealised model
-#: does not have (see :func:`partners`), looked for up to PARTNER_REACH (rad) away.
+#: does not have (see :func:`partners`), looked for up to PARTNER_REACH (rad) away (times
+#: ``singular.deviation_widening`` on a model that deviates further than the published ones).
 PARTNER_SIGMA = 2e-3
 #: ... and a solution with no other one within this (rad, joints 1 to 3) whose theta5 has the
 #: other sign starts a polish from its arm with the other wrist (see :func:`other_wrists`)

@@ -86,7 +86,7 @@ from .fk import (
 from .jit import njit
 from .joints import arm_with_wrist, other_wrist
 from .poly import brent_next, brent_start, brent_take, illinois_step, secant_point
-from .singular import turn_scanned
+from .singular import deviation_widening, turn_scanned
 
 
 @njit(allocates=True)
@@ -1007,7 +1007,10 @@ def partners(Td, K, out, count, ws, mats):
     as a partner had its own missed). Not in q1 where :func:`_shoulder_turn` has tracked the
     exact model over its whole turn (:func:`turn_scanned`): the same solution sets over 24,000
     poses of four deviating robots without those scans, a third of the partners' reduced
-    residuals on a near-shoulder pose."""
+    residuals on a near-shoulder pose. On a model that deviates further than the published ones
+    the reach and the cells widen with it (:func:`deviation_widening`, as the shoulder windows
+    do): a member deviating 4.7 times as far (wrist offsets of 0.44 mm) had a partner 0.45 to 0.6
+    along ``v`` beside a stretched elbow, and it was missed."""
     T = np.empty((4, 4))
     J = np.empty((6, 6))
     A = np.empty((6, 6))
@@ -1016,6 +1019,8 @@ def partners(Td, K, out, count, ws, mats):
     qt = np.empty(6)
     w = 1.0 / K[L.SCALE]
     turned = turn_scanned(ws[W_P:W_P + 3], ws[W_A:W_A + 3], K)  # (once per pose, not per partner)
+    widening = deviation_widening(K)
+    cells = int(math.ceil(PARTNER_CELLS * widening))
     s = -1
     while s + 1 < count:  # (each new row a distinct solution: bounded by the output's size)
         s += 1
@@ -1047,7 +1052,7 @@ def partners(Td, K, out, count, ws, mats):
             continue
         t = -2.0 * S[5] / curv
         before = count
-        if abs(t) <= PARTNER_REACH:
+        if abs(t) <= PARTNER_REACH * widening:
             for i in range(6):
                 qt[i] = x[i] + t * Vt[5, i]
             count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
@@ -1061,10 +1066,10 @@ def partners(Td, K, out, count, ws, mats):
                     j = i
             if j == 0 and turned:
                 continue
-            reach = PARTNER_REACH * abs(Vt[5, j])
+            reach = PARTNER_REACH * widening * abs(Vt[5, j])
             for sg in (1.0, -1.0):
                 # (from PARTNER_STEP of a cell beside x, not from x: the residual is zero at x, so
                 # the first cell's sign test would read rounding, and a partner in it was lost)
-                count = reduced_scan(x.copy(), j, x[j] + sg * PARTNER_STEP * reach / PARTNER_CELLS,
-                                      x[j] + sg * reach, PARTNER_CELLS, Td, K, out, count, ws, mats)
+                count = reduced_scan(x.copy(), j, x[j] + sg * PARTNER_STEP * reach / cells,
+                                      x[j] + sg * reach, cells, Td, K, out, count, ws, mats)
     return count

@@ -143,8 +143,15 @@ def _relative_offset(r, t, K):
     offset's cylinder) in the measure of the deviating models' shoulder windows: over the larger
     of the size and the line's d there, and over how much further than SHOULDER_EFFECT_REF of the
     size the deviation reaches (``deviation_effect`` tolerances; at least 1)."""
-    widening = max(1.0, K[L.DEVIATION_EFFECT] * K[L.POS_TOL] / (K[L.SCALE] * SHOULDER_EFFECT_REF))
-    return r / (max(K[L.SCALE], abs(t - K[L.D7])) * widening)
+    return r / (max(K[L.SCALE], abs(t - K[L.D7])) * deviation_widening(K))
+
+
+@njit
+def deviation_widening(K):
+    """How much further than SHOULDER_EFFECT_REF of the size the model's deviation reaches
+    (its ``deviation_effect`` tolerances; at least 1): the factor by which the windows measured
+    on the published models widen on a model that deviates further."""
+    return max(1.0, K[L.DEVIATION_EFFECT] * K[L.POS_TOL] / (K[L.SCALE] * SHOULDER_EFFECT_REF))
 
 
 @njit
