@@ -1582,6 +1582,27 @@ def test_shoulder_set_of_a_robot_whose_wrist_offsets_are_negative():
     assert_complete_once(robot, q, from_source=True)
 
 
+def test_line_near_axis1_at_the_end_of_the_range_with_its_closest_approach_beyond():
+    """A member without lateral offset deviating 0.34 mm (hunt seed 740, ``--deviate 0.3``,
+    member 2; 5.2 times as far as the published models): the line of virtual centres comes
+    closest to axis 1 (0.65 mm) at 2.2 mm of d beyond the lower end of the range, beyond the 2 %
+    of ``d_near_range``, and passes it at 0.82 mm at that end, where the source lies (its wrist
+    bent 0.18 rad). The whole turn of q1 was not tracked: the source missed (8 answers, the
+    nearest 0.68 rad away). The turn is now also tracked where the line's closest approach taken
+    into the range is near axis 1 (``singular.range_offset``): the source and every solution of
+    the reference among the answers."""
+    dh = np.array([[0.0, 0.0, 595.0, 0.0], [271.0, -1.5707176435045997, 0.0, 0.0],
+                   [1075.0, 5.213998143190518e-05, -0.0, 0.0], [204.0, 1.5709242598913011, 836.0, 0.0],
+                   [0.24227123463192018, -0.35134245496995575, 99.05483697505574, 2.4193288373978993e-05],
+                   [0.22076854169835727, 0.7027238922510548, 98.85129076289627, 0.0],
+                   [0.3449032244770872, -0.3513301885991207, 143.0, 0.0]])
+    robot = Robot(name="range_end", dh=dh, coupling=(-1.0, 0.0))
+    assert robot.family.b == 0.0 and robot.family.deviation > 0.3
+    q = [0.849225535990143, 1.7753582224674473, 1.2054461690847766, 1.345268857695796, -0.17663110475139154,
+         -1.5990314593704014]
+    assert_complete_once(robot, q, at_least=9, from_source=True)
+
+
 _INSIDE_THE_CYLINDER_MIRRORED = [  # mirrored, d5 = d6 < 0 (hunt seed 513): DH, signs, coupling, source
     ([[0.0, 0.0, 821.0, 0.43493604959698695],
       [-229.0, -1.5708112763400897, 146.0, -0.5708971983273452],

@@ -2,12 +2,13 @@
 line of virtual wrist centres (``p``, ``a``: frame 7's origin and axis in the base frame).
 
 Small predicates the scans share: the fold of a (nearly) 45 deg twist (``u_fold``,
-``fold_snap``), the line's distance from axis 1 (``line_to_axis1``, ``shoulder_offset``),
-whether the whole turn of joint 1 is scanned there (``turn_scanned``), where it crosses a
-lateral offset's cylinder and how far from it it runs (``cylinder_crossings``,
+``fold_snap``), the line's distance from axis 1 (``line_to_axis1``, ``shoulder_offset``,
+``range_offset``), whether the whole turn of joint 1 is scanned there (``turn_scanned``), where
+it crosses a lateral offset's cylinder and how far from it it runs (``cylinder_crossings``,
 ``cylinder_offset``), whether an arm is near the shoulder set or has its elbow near stretched
-(``near_shoulder``, ``near_stretch``), and whether the model's straight wrist is a circle
-(``straight_circle``).
+(``near_shoulder``, ``near_stretch``), whether the model's straight wrist is a circle
+(``straight_circle``), and how much further than the published models it deviates
+(``deviation_widening``).
 """
 
 from __future__ import annotations
@@ -49,12 +50,15 @@ def straight_circle(K):
 def turn_scanned(p, a, K):
     """Whether :func:`scan_shoulder` tracks the exact model over the whole turn of q1 for the
     line of virtual centres ``p - t a`` (:func:`_shoulder_turn`) without lateral offset (with a
-    small one: :func:`small_lateral_turn`)."""
+    small one: :func:`small_lateral_turn`): its closest approach to axis 1 within SHOULDER_EXACT_NEAR
+    (:func:`shoulder_offset`) at a d near the range, or that approach taken into the range so
+    near (:func:`range_offset`)."""
     if K[L.B] != 0.0 or K[L.DEVIATION] == 0.0 or a[0] * a[0] + a[1] * a[1] < 1e-24:
         return False
     t, _ = line_to_axis1(p, a)
     d = t - K[L.D7]
-    return d_near_range(d, K) and shoulder_offset(p, a, K) <= SHOULDER_EXACT_NEAR
+    return ((d_near_range(d, K) and shoulder_offset(p, a, K) <= SHOULDER_EXACT_NEAR)
+            or range_offset(p, a, K) <= SHOULDER_EXACT_NEAR)
 
 
 @njit
@@ -135,6 +139,21 @@ def shoulder_offset(p, a, K):
     (:func:`_relative_offset`)."""
     t, r = line_to_axis1(p, a)
     return _relative_offset(r, t, K)
+
+
+@njit
+def range_offset(p, a, K):
+    """:func:`shoulder_offset` at the line's closest approach to axis 1 taken into the range of
+    d (its end nearest the closest approach, where that lies beyond it): the line may pass near
+    axis 1 at an end of the range while its closest approach lies beyond the 2 % of
+    :func:`d_near_range` (a member deviating 0.34 mm, the closest approach 0.65 mm from axis 1 at
+    2.2 mm of d beyond the range, 0.82 mm at its end: its source was missed, the whole turn not
+    tracked)."""
+    t, _ = line_to_axis1(p, a)
+    tc = K[L.D7] + min(K[L.DMAX], max(K[L.DMIN], t - K[L.D7]))
+    rx = p[0] - tc * a[0]
+    ry = p[1] - tc * a[1]
+    return _relative_offset(math.sqrt(rx * rx + ry * ry), tc, K)
 
 
 @njit
