@@ -762,7 +762,7 @@ def scan_shoulder(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
             return count
     elif shoulder_offset(p, a, K) > SHOULDER_SCAN_DEVIATING:
         return count
-    if not d_near_range(d, K) and not (K[L.DEVIATION] > 0.0 and turn_scanned(p, a, K)):
+    if not d_near_range(d, K) and not turn_scanned(p, a, K):
         return count  # (a deviating model whose line passes near axis 1 at an end of the range: on)
     return _scan_turn(0.0, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
 

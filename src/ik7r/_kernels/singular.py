@@ -2,13 +2,13 @@
 line of virtual wrist centres (``p``, ``a``: frame 7's origin and axis in the base frame).
 
 Small predicates the scans share: the fold of a (nearly) 45 deg twist (``u_fold``,
-``fold_snap``), the line's distance from axis 1 (``line_to_axis1``, ``shoulder_offset``,
-``range_offset``), whether the whole turn of joint 1 is scanned there (``turn_scanned``), where
-it crosses a lateral offset's cylinder and how far from it it runs (``cylinder_crossings``,
-``cylinder_offset``), whether an arm is near the shoulder set or has its elbow near stretched
-(``near_shoulder``, ``near_stretch``), whether the model's straight wrist is a circle
-(``straight_circle``), and how much further than the published models it deviates
-(``deviation_widening``).
+``fold_snap``), the line's distance from axis 1 (``line_to_axis1``, ``axis1_distance``,
+``shoulder_offset``, ``range_offset``), whether the whole turn of joint 1 is scanned there
+(``turn_scanned``), where it crosses a lateral offset's cylinder and how far from it it runs
+(``cylinder_crossings``, ``cylinder_offset``), whether an arm is near the shoulder set or has
+its elbow near stretched (``near_shoulder``, ``near_stretch``), whether the model's straight
+wrist is a circle (``straight_circle``), and how much further than the published models it
+deviates (``deviation_widening``).
 """
 
 from __future__ import annotations
@@ -102,9 +102,7 @@ def cylinder_offset(d, p, a, K):
     """The line of virtual centres' distance at ``d`` from the lateral offset's cylinder (radius
     abs(b) about axis 1), in the measure of :func:`shoulder_offset` (:func:`_relative_offset`)."""
     t = K[L.D7] + d
-    px = p[0] - t * a[0]
-    py = p[1] - t * a[1]
-    return _relative_offset(abs(math.hypot(px, py) - abs(K[L.B])), t, K)
+    return _relative_offset(abs(axis1_distance(t, p, a) - abs(K[L.B])), t, K)
 
 
 @njit
@@ -124,9 +122,15 @@ def line_to_axis1(p, a):
     (t there, the distance)."""
     axy2 = a[0] * a[0] + a[1] * a[1]
     t = (p[0] * a[0] + p[1] * a[1]) / axy2
+    return t, axis1_distance(t, p, a)
+
+
+@njit
+def axis1_distance(t, p, a):
+    """The distance of the line's point ``p - t a`` from axis 1."""
     rx = p[0] - t * a[0]
     ry = p[1] - t * a[1]
-    return t, math.sqrt(rx * rx + ry * ry)
+    return math.sqrt(rx * rx + ry * ry)
 
 
 @njit
@@ -151,9 +155,7 @@ def range_offset(p, a, K):
     tracked)."""
     t, _ = line_to_axis1(p, a)
     tc = K[L.D7] + min(K[L.DMAX], max(K[L.DMIN], t - K[L.D7]))
-    rx = p[0] - tc * a[0]
-    ry = p[1] - tc * a[1]
-    return _relative_offset(math.sqrt(rx * rx + ry * ry), tc, K)
+    return _relative_offset(axis1_distance(tc, p, a), tc, K)
 
 
 @njit

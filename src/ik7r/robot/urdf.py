@@ -505,12 +505,14 @@ def _dh_from_lines(points: np.ndarray, dirs: np.ndarray, sign: np.ndarray, T_bas
             break
         cross = _normal(z[i], z[i + 1])
         sin = float(np.linalg.norm(cross))
-        t1 = t2 = 0.0
-        if sin > PARALLEL_TOL:
+        parallel = sin <= PARALLEL_TOL
+        if not parallel:
             t1, t2 = _foot(points[i], z[i], points[i + 1], z[i + 1])
-            if max(abs(t1), abs(t2)) > FAR_NORMAL * size:
-                far.append((i, sin, max(abs(t1), abs(t2))))
-        if sin <= PARALLEL_TOL or far and far[-1][0] == i:
+            near = max(abs(t1), abs(t2))
+            if near > FAR_NORMAL * size:
+                far.append((i, sin, near))
+                parallel = True
+        if parallel:
             # parallel, or so nearly that the common normal's place is lost in the rounding of
             # the lines (see _foot): frame i where the previous normal meets axis i (d_i = 0),
             # x_i towards the nearest point of axis i + 1 (the check below bounds the error)
