@@ -1340,6 +1340,51 @@ def test_shoulder_turn_of_both_wrist_signs_on_one_curve(case):
     assert_complete_once(robot, np.array(q), from_source=True)
 
 
+#: Members without lateral offset whose whole turn of q1 jumped, deviating 4.7 and 3.0 times as
+#: far as the published models (hunt seeds 752 and 753, the shoulder kinds at ``--deviate 0.3``)
+TURN_JUMPS = {
+    # the line of virtual centres 0.18 mm from axis 1; the turn sat at the fully bent wrist for
+    # 15 points and left it below pi; the source, 0.076 rad before the point it left on, is above
+    "left_the_fully_bent_wrist": (
+        [[0.0, 0.0, 171.0, 0.0], [185.0, 1.5708765775576792, 0.0, 0.0],
+         [1162.0, -9.345985280666592e-05, -0.0, 0.0], [98.0, 1.570841430652368, 867.0, 0.0],
+         [0.3522119510792135, -0.27646120647242456, 84.1356234686786, 8.097840913114062e-05],
+         [-0.2194796838074545, 0.552899607009023, 84.16750735915491, 0.0],
+         [0.37329117220310226, -0.27637507735540917, 124.0, 0.0]],
+        [-1.233108268852087, 2.642640525346222, -0.6453332686282396, 1.5990751884066183,
+         -3.0163751835102754, 2.523229966412737],
+    ),
+    # the line 1.9e-3 mm from axis 1; where the wrist is nearly straight the turn sweeps q4 by a
+    # radian a cell, and three points jumped off the source's valley (|e| 3e-2 to 6e-2 between
+    # 3.3e-4 and 1.1e-4)
+    "jumped_for_three_points": (
+        [[0.0, 0.0, 5.0, 0.0], [149.0, 1.5707046839174754, 0.0, 0.0],
+         [863.0, -9.409088425444856e-05, -0.0, 0.0], [46.0, 1.570779915910974, 1118.0, 0.0],
+         [-0.23829224516177355, -0.47779001390474024, 150.17768286918144, -4.391317180515088e-05],
+         [-0.13532543761421417, 0.9558684749675486, 149.9512859295494, 0.0],
+         [-0.20485868797046378, -0.477884478337324, 44.0, 0.0]],
+        [2.909129300181519, -0.8458601217372306, 0.1955092378716956, -2.03526092635121,
+         0.17681627727898963, -1.0350673591170043],
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(TURN_JUMPS))
+def test_shoulder_turn_scanned_again_where_it_jumped(case):
+    """Members without lateral offset near the shoulder set (coupling (-1, 0)), so the exact
+    model is tracked over the whole turn of q1. One turn left the fully bent wrist on the
+    other side of pi than the source's branch (Gauss-Newton cannot move theta5 off pi), the
+    other jumped off the source's valley for three points: each missed its source (9 answers,
+    now 10). The cells where a turn leaves the fully bent wrist (from the point
+    beyond, theta5 mirrored about pi) and the runs of up to three points that jumped are now
+    scanned again on finer cells: the source and every solution of the reference among the
+    answers, every answer exact, none twice."""
+    dh, q = TURN_JUMPS[case]
+    robot = Robot(name=case, dh=np.array(dh), coupling=(-1.0, 0.0))
+    assert robot.family.deviation > 0.2 and robot.family.b == 0.0
+    assert_complete_once(robot, np.array(q), at_least=3, from_source=True)
+
+
 def test_fully_bent_wrist_of_a_far_deviating_lateral_member_is_answered():
     """A member with a lateral offset of 200 mm, wrist twists of 31.7 deg and wrist offsets up
     to 0.28 mm (hunt seed 699, the shoulder kinds at ``--deviate 0.2``), the wrist 0.2 rad from

@@ -379,6 +379,20 @@ TRACK_JUMP = 10.0
 #: the two cells showed one sign change for three roots: a member's source was missed.
 JUMP_CELLS = 8
 JUMP_NOTED = 4
+#: ... and a scan over the whole turn in q1 (:func:`ik7r._kernels.scans._shoulder_turn`) notes
+#: runs of up to TURN_JUMP_WIDTH such points whose neighbours lie below TURN_JUMP_VALLEY, and
+#: scans each run's cells again the same way. Near the shoulder set the tracked curve sweeps
+#: q4 by a radian a cell where the wrist is nearly straight: a member's scan jumped off the valley
+#: for three points (|e| 3.3e-2, 6.2e-2, 2.4e-2 between 3.3e-4 and 1.1e-4) and missed the source
+#: 0.03 rad in q1 beyond the first.
+TURN_JUMP_WIDTH = 3
+TURN_JUMP_VALLEY = 1e-3
+#: ... and such a scan's point whose theta5 is within this (rad) of pi is at the fully bent wrist:
+#: Gauss-Newton cannot move it off (the same wrist to first order either side), the scan leaves
+#: it on one side, and the cell where it does is scanned again from the point beyond with
+#: theta5 mirrored about pi (see :func:`ik7r._kernels.reduced._note_bent_exits`). A member's scan
+#: sat at pi for 15 points and left it below pi; its source was 0.06 rad in q1 beyond, above pi.
+BENT_STUCK = 1e-3
 #: ... and a root of it refined until the residual the last step would leave is below this
 #: (position over the size, and rad): the point is then within REDUCED_SETTLE of the solution
 #: in the other joints anyway, which the polish on the exact model takes to the last bits

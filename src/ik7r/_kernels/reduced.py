@@ -17,6 +17,7 @@ import numpy as np
 from . import params as L
 from .answers import accept, add_answer, apart, bend, straightened, theta5, walked
 from .constants import (
+    BENT_STUCK,
     CLOSED_TOL,
     CONTINUUM_WINDOW,
     DIP_NEAR,
@@ -57,6 +58,8 @@ from .constants import (
     STRETCH_SPLITS,
     STRETCHED_TOL,
     TRACK_JUMP,
+    TURN_JUMP_VALLEY,
+    TURN_JUMP_WIDTH,
     TURN_START_ROUNDS,
     TWO_PI,
     W_A,
@@ -179,13 +182,22 @@ def _split_scan(start, v0, v1, m, Td, K, out, count, ws, mats):
     ``ws[W_JUMP]`` by :func:`_note_jumps`) scanned again on JUMP_CELLS cells from the point
     before: roots closer than a cell that the jump hid (see JUMP_CELLS)."""
     count = reduced_scan(start, 3, v0, v1, m, Td, K, out, count, ws, mats)
+    return rescan_jumps(3, Td, K, out, count, ws, mats)
+
+
+@njit(allocates=True)
+def rescan_jumps(j, Td, K, out, count, ws, mats):
+    """The brackets the last :func:`reduced_scan` of joint ``j`` noted in ``ws[W_JUMP]`` (where it
+    jumped off a root's valley, :func:`_note_jumps`, or left the fully bent wrist,
+    :func:`_note_bent_exits`) scanned again on JUMP_CELLS cells each from its noted start. The
+    notes are read first: these scans note their own (none: they are short)."""
     nj = int(ws[W_JUMP])
     todo = np.empty((JUMP_NOTED, 8))
     for k in range(nj):
         for i in range(8):
             todo[k, i] = ws[W_JUMP + 1 + 8 * k + i]
     for k in range(nj):
-        count = reduced_scan(todo[k, 2:].copy(), 3, todo[k, 0], todo[k, 1], JUMP_CELLS, Td, K, out,
+        count = reduced_scan(todo[k, 2:].copy(), j, todo[k, 0], todo[k, 1], JUMP_CELLS, Td, K, out,
                              count, ws, mats)
     return count
 
@@ -708,7 +720,9 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=Fals
     branch where the wrist passes straight, a point that jumps off the branch is solved again
     with its wrist solved for the arm's target (:func:`_wrist_again`), and the scan is not
     joined to an earlier one. A split scan (j = 3) notes its points that jumped off a root's
-    valley in ``ws[W_JUMP]`` (:func:`_note_jumps`)."""
+    valley in ``ws[W_JUMP]`` (:func:`_note_jumps`), a scan over the whole turn in q1 its runs of
+    such points and the cells where it leaves the fully bent wrist (:func:`_note_bent_exits`);
+    :func:`rescan_jumps` scans them again."""
     T = np.empty((4, 4))
     J = np.empty((6, 6))
     A = np.empty((6, 6))
@@ -873,7 +887,10 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=Fals
         ws[W_NRSCAN] = n + 1
     ws[W_JUMP] = 0.0
     if j == 3:
-        _note_jumps(qs, es, v0, v1, m, ws)
+        _note_jumps(qs, es, v0, v1, m, ws, 1, DIP_NEAR)
+    elif j == 0 and abs(abs(v1 - v0) - TWO_PI) < 1e-12:
+        _note_jumps(qs, es, v0, v1, m, ws, TURN_JUMP_WIDTH, TURN_JUMP_VALLEY)
+        _note_bent_exits(qs, v0, v1, m, K, ws)
     for i in range(6):
         ws[W_SEND + i] = qs[m, i]
     ws[W_SEND + 6] = es[m]
@@ -890,22 +907,67 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=Fals
 
 
 @njit
-def _note_jumps(qs, es, v0, v1, m, ws):
-    """Note in ``ws[W_JUMP]`` (count, then per point the ends of its two cells and the point
-    before) the points of a split scan (grid ``qs`` over [v0, v1] on ``m`` cells, ``|e|`` ``es``)
-    that jumped off a root's valley: ``|e|`` above TRACK_JUMP times both neighbours' while these
-    are below DIP_NEAR (see JUMP_CELLS)."""
-    nj = 0
-    for k in range(1, m):
-        e_side = max(es[k - 1], es[k + 1])
-        if nj < JUMP_NOTED and es[k] > TRACK_JUMP * e_side and e_side < DIP_NEAR:
-            b = W_JUMP + 1 + 8 * nj
-            ws[b] = v0 + (v1 - v0) * (k - 1) / m
-            ws[b + 1] = v0 + (v1 - v0) * (k + 1) / m
-            for i in range(6):
-                ws[b + 2 + i] = qs[k - 1, i]
-            nj += 1
+def _note_jumps(qs, es, v0, v1, m, ws, width, valley):
+    """Note in ``ws[W_JUMP]`` (count, then per run the ends of its bracket and the point before
+    it) the runs of up to ``width`` points of a scan (grid ``qs`` over [v0, v1] on ``m`` cells,
+    ``|e|`` ``es``) that jumped off a root's valley: ``|e|`` above TRACK_JUMP times the points
+    either side of the run while these are below ``valley`` (see JUMP_CELLS and TURN_JUMP_WIDTH),
+    at most JUMP_NOTED."""
+    nj = int(ws[W_JUMP])
+    k = 1
+    while k < m and nj < JUMP_NOTED:
+        run = 0
+        for w in range(1, width + 1):
+            if k + w > m:
+                break
+            side = max(es[k - 1], es[k + w])
+            low = es[k]
+            for i in range(k + 1, k + w):
+                low = min(low, es[i])
+            if side < valley and low > TRACK_JUMP * side:
+                run = w
+                break
+        if run == 0:
+            k += 1
+            continue
+        _note(ws, nj, v0 + (v1 - v0) * (k - 1) / m, v0 + (v1 - v0) * (k + run) / m, qs[k - 1])
+        nj += 1
+        k += run + 1
     ws[W_JUMP] = nj
+
+
+@njit
+def _note_bent_exits(qs, v0, v1, m, K, ws):
+    """Note in ``ws[W_JUMP]`` (after :func:`_note_jumps`' runs, at most JUMP_NOTED in all) the
+    cells where a scan over the whole turn in q1 (grid ``qs`` over [v0, v1] on ``m`` cells) leaves
+    the fully bent wrist: theta5 within BENT_STUCK of pi at one end of the cell and not at the
+    other. Gauss-Newton cannot move theta5 off pi (the fully bent wrist is the same wrist to first
+    order on either side), so the scan leaves it on one side of pi, and the branch on the other
+    side is not tracked: noted from the point off pi with theta5 mirrored about pi, back to the
+    one at pi (see BENT_STUCK)."""
+    nj = int(ws[W_JUMP])
+    for k in range(1, m + 1):
+        if nj >= JUMP_NOTED:
+            break
+        at_a = math.pi - bend(qs[k - 1], K) < BENT_STUCK
+        at_b = math.pi - bend(qs[k], K) < BENT_STUCK
+        if at_a == at_b:
+            continue
+        off, at = (k, k - 1) if at_a else (k - 1, k)
+        _note(ws, nj, v0 + (v1 - v0) * off / m, v0 + (v1 - v0) * at / m, qs[off])
+        ws[W_JUMP + 1 + 8 * nj + 2 + 4] = user_angle(4, TWO_PI - dh_angle(qs[off], K, 4), K)
+        nj += 1
+    ws[W_JUMP] = nj
+
+
+@njit
+def _note(ws, nj, va, vb, q):
+    """Write the ``nj``-th note of ``ws[W_JUMP]``: a bracket [va, vb] and its start ``q``."""
+    b = W_JUMP + 1 + 8 * nj
+    ws[b] = va
+    ws[b + 1] = vb
+    for i in range(6):
+        ws[b + 2 + i] = q[i]
 
 
 @njit

@@ -102,7 +102,7 @@ from .gaps import (
 )
 from .jit import njit
 from .joints import arm_frame, arm_may_match, filter_margin, with_fold_wrist, with_wrist
-from .reduced import reduced_scan
+from .reduced import reduced_scan, rescan_jumps
 from .singular import (
     cylinder_crossings,
     cylinder_offset,
@@ -834,7 +834,9 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
     that may go on (:func:`_valley_goes_on`) goes on by its span again, up to SHOULDER_VALLEY_END
     from its start. Where the whole turns of the two wrist signs end on one curve, the turn is
     tracked again, each scan keeping its wrist's sign (see TURN_START_ROUNDS): the branch the
-    two left was otherwise seen by the dip-centred scans alone."""
+    two left was otherwise seen by the dip-centred scans alone. After each whole turn the cells
+    where it jumped off a root's valley or left the fully bent wrist are scanned again
+    (:func:`ik7r._kernels.reduced.rescan_jumps`)."""
     Q = mats[MAT_Q, :3, :3]
     q = ws[W_Q6:W_Q6 + 6]
     qq = ws[W_QQ:W_QQ + 6]
@@ -843,6 +845,7 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
     v0 = q[0]
     turn = span_b == 0.0 and abs(abs(span_a) - TWO_PI) < 1e-12
     end = ws[W_TEND:W_TEND + 6]
+    one_curve = False
     for sgn in (1.0, -1.0):
         for span in (span_a, span_b):
             if span == 0.0:
@@ -850,9 +853,14 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
             # (the start into qq: reduced_scan reads it once, before it adds anything)
             with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
             count = reduced_scan(qq, 0, v0, v0 + span, cells, Td, K, out, count, ws, mats)
-            if turn and sgn > 0.0:
-                for i in range(6):
-                    end[i] = ws[W_SEND + i]
+            if turn:
+                if sgn > 0.0:
+                    for i in range(6):
+                        end[i] = ws[W_SEND + i]
+                else:
+                    one_curve = apart(end, ws[W_SEND:W_SEND + 6]) < CLOSED_TOL
+                count = rescan_jumps(0, Td, K, out, count, ws, mats)
+                continue
             v = v0 + span
             while (abs(v - v0) + abs(span) <= SHOULDER_VALLEY_END + 1e-12
                    and _valley_goes_on(ws[W_SEND + 6], ws[W_SEND + 7], ws[W_SEND + 8])):
@@ -860,12 +868,13 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
                     qq[i] = ws[W_SEND + i]
                 count = reduced_scan(qq, 0, v, v + span, cells, Td, K, out, count, ws, mats)
                 v += span
-    if turn and apart(end, ws[W_SEND:W_SEND + 6]) < CLOSED_TOL:
+    if turn and one_curve:
         # both wrist signs ended on one curve: the turn again, each scan keeping its wrist's sign
         # from a start taken to its least-squares point (see TURN_START_ROUNDS)
         for sgn in (1.0, -1.0):
             with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
             count = reduced_scan(qq, 0, v0, v0 + span_a, cells, Td, K, out, count, ws, mats, True)
+            count = rescan_jumps(0, Td, K, out, count, ws, mats)
     return count
 
 
