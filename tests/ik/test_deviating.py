@@ -1385,6 +1385,55 @@ def test_shoulder_turn_scanned_again_where_it_jumped(case):
     assert_complete_once(robot, np.array(q), at_least=3, from_source=True)
 
 
+#: Members without lateral offset near the shoulder set whose source lay on the other arm's curve
+#: in q1 (hunt seeds 752, 686 and 697: the shoulder kinds at ``--deviate`` 0.3, 0.1, 0.2;
+#: deviating 0.32, 0.14 and 0.19 mm, the line of virtual centres 0.14, 1.9 and 1.2 mm from axis 1)
+OTHER_ARM_TURNS = {
+    "seed_752": (
+        [[0.0, 0.0, 657.0, 0.0], [339.0, 1.5707370807696532, 0.0, 0.0],
+         [705.0, 6.792445516369459e-05, -0.0, 0.0], [228.0, 1.5707986090293495, 1370.0, 0.0],
+         [-0.3232135850784278, -0.5526979639483188, 96.06545744195846, -8.716312381687649e-05],
+         [-0.03404808306146103, 1.1055606379799505, 96.14361497885804, 0.0],
+         [0.010331103840606785, -0.5528301286328047, 140.0, 0.0]],
+        [-2.0509766169330756, -1.6964229553499113, 1.3702734350528294, 1.9302498414815261,
+         0.636654970197696, -2.6779298481808738],
+    ),
+    "seed_686": (
+        [[0.0, 0.0, 547.0, 0.0], [18.0, 1.570829344245979, 0.0, 0.0],
+         [973.0, 3.8066187899330736e-05, -0.0, 0.0], [234.0, -1.570821231381212, 1417.0, 0.0],
+         [0.01446532436306662, -0.5213571152071441, 78.93222000655733, 4.307501287326224e-06],
+         [0.14272694073654102, 1.0426457341397535, 79.04233720178959, 0.0],
+         [0.017676459909767444, -0.5213361173995533, 170.0, 0.0]],
+        [-1.740328548687705, -1.3844389788462363, 1.672913775936018, -1.104386657642074,
+         0.005312764865886166, 0.11338451717525144],
+    ),
+    "seed_697": (
+        [[0.0, 0.0, 802.0, 0.0], [184.0, 1.5708320135352503, 0.0, 0.0],
+         [775.0, -3.408846841479232e-05, -0.0, 0.0], [167.0, 1.570810961069535, 1240.0, 0.0],
+         [0.033605085539755254, -0.5060916809948907, 89.95134818291974, -5.8055321883777694e-05],
+         [0.18541537635445404, 1.0122732725476289, 89.90010841088541, 0.0],
+         [0.13216108322314127, -0.5061346561625201, 46.0, 0.0]],
+        [-0.37253395083516594, 0.9111384017543318, -1.5551602594402851, -2.1158905178580536,
+         -0.44772647973642243, 0.8220724975100668],
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(OTHER_ARM_TURNS))
+def test_shoulder_turn_from_the_other_arm(case):
+    """Near the shoulder set the centre is reached by the arm in front and over the back, each
+    a curve of the exact model's reduced residual in q1 of its own. The whole turn started from
+    one arm only; on these members it never came onto the other arm's curve of one wrist sign
+    (the first: the source's curve 0.2 to 0.58 rad from every tracked one over most of the
+    turn), and the source there was missed. The turn now starts again half a turn on, each
+    wrist sign whose settled start no whole turn passes through scanned: the source and every
+    solution of the reference among the answers, every answer exact, none twice."""
+    dh, q = OTHER_ARM_TURNS[case]
+    robot = Robot(name=case, dh=np.array(dh), coupling=(-1.0, 0.0))
+    assert robot.family.deviation > 0.1 and robot.family.b == 0.0
+    assert_complete_once(robot, np.array(q), at_least=3, from_source=True)
+
+
 def test_fully_bent_wrist_of_a_far_deviating_lateral_member_is_answered():
     """A member with a lateral offset of 200 mm, wrist twists of 31.7 deg and wrist offsets up
     to 0.28 mm (hunt seed 699, the shoulder kinds at ``--deviate 0.2``), the wrist 0.2 rad from

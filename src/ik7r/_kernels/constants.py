@@ -393,6 +393,23 @@ TURN_JUMP_VALLEY = 1e-3
 #: theta5 mirrored about pi (see :func:`ik7r._kernels.reduced._note_bent_exits`). A member's scan
 #: sat at pi for 15 points and left it below pi; its source was 0.06 rad in q1 beyond, above pi.
 BENT_STUCK = 1e-3
+#: ... and after the whole turn from the first grid point whose nominal arm reaches the centre,
+#: the turn again from the nominal arm half a turn on (near axis 1 the centre is reached in
+#: front and over the back, each a curve of its own in q1 that a turn from the other need not
+#: come onto), each wrist sign whose settled start lies within this (rad, every joint) of a
+#: whole turn's grid point there skipped (see :func:`ik7r._kernels.reduced.turn_tracked`).
+#: Members deviating 2 to 5 times as far as the published models had a source on such a curve
+#: untracked (the wrist bent 0.64 rad, the arm 0.12 and 0.18 rad from the tracked ones'); on
+#: 30 of the IRB 5400's near-shoulder poses 21 of 108 such starts were untracked, the same ones
+#: for any bound from 1e-3 to 0.1.
+TURN_TRACKED = 1e-2
+#: ... and such a scan stops where two of its points in a row lie within this (rad, every joint)
+#: of a whole turn of the pose scanned before: it has joined that turn's curve, whose rest is
+#: scanned (see :func:`ik7r._kernels.reduced._turn_joins`). On 30 of the IRB 5400's
+#: near-shoulder poses 17 of the 21 such scans joined one, after 2 to 46 cells (the points
+#: within 1e-9 of the turn's two or three cells on); curves that only pass each other came
+#: within 1e-2 and left again (their distances 1e-2, 4e-2, 9e-2 a cell apart).
+TURN_JOIN_TOL = 1e-6
 #: ... and a root of it refined until the residual the last step would leave is below this
 #: (position over the size, and rad): the point is then within REDUCED_SETTLE of the solution
 #: in the other joints anyway, which the polish on the exact model takes to the last bits

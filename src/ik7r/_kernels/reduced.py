@@ -58,9 +58,11 @@ from .constants import (
     STRETCH_SPLITS,
     STRETCHED_TOL,
     TRACK_JUMP,
+    TURN_JOIN_TOL,
     TURN_JUMP_VALLEY,
     TURN_JUMP_WIDTH,
     TURN_START_ROUNDS,
+    TURN_TRACKED,
     TWO_PI,
     W_A,
     W_FAM,
@@ -704,7 +706,7 @@ def _scan_keep(memo, n, j, v0, v1, m, qs, rs, es, closed):
 
 
 @njit(allocates=True)
-def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=False):
+def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=False, stop_joined=False):
     """Every exact solution on the branch of the reduced residual (:func:`_reduced_at`) with
     joint ``j`` over [v0, v1], tracked from ``start`` on a grid of ``m`` <= REDUCED_GRID cells
     (each point Gauss-Newton from the extrapolation of the two before it): sign changes refined
@@ -722,7 +724,9 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=Fals
     joined to an earlier one. A split scan (j = 3) notes its points that jumped off a root's
     valley in ``ws[W_JUMP]`` (:func:`_note_jumps`), a scan over the whole turn in q1 its runs of
     such points and the cells where it leaves the fully bent wrist (:func:`_note_bent_exits`);
-    :func:`rescan_jumps` scans them again."""
+    :func:`rescan_jumps` scans them again. ``stop_joined`` (a whole turn in q1): the scan stops
+    where two of its points in a row lie within TURN_JOIN_TOL of a whole turn of the pose
+    scanned before (:func:`_turn_joins`): the rest of its curve is that turn's."""
     T = np.empty((4, 4))
     J = np.empty((6, 6))
     A = np.empty((6, 6))
@@ -745,6 +749,8 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=Fals
     keep_sign = one_sign and j == 0  # (see :func:`ik7r._kernels.scans._q1_scans`)
     sign = 0.0
     mirrored = -1
+    turn = j == 0 and abs(abs(v1 - v0) - TWO_PI) < 1e-12
+    last = m
     for k in range(m + 1):
         if joined < 0 and k >= 2 and not keep_sign:
             joined = _scan_joined(memo, n, j, v0, v1, m, qs, k)
@@ -795,16 +801,22 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=Fals
             dp, dr = residual(T, Td)
             if dp <= K[L.POS_TOL] and dr <= K[L.ROT_TOL]:
                 count = add_answer(qt.copy(), out, count, Td, K, mats)
+        if stop_joined and k >= 1 and _turn_joins(memo, n, v0 + (v1 - v0) * k / m, (v1 - v0) / m,
+                                                  qs[k - 1], qs[k]):
+            last = k
+            break
     # over a whole turn the branch is a closed curve when it comes back to its start: the grid
     # point before the first is then the last but one (a dip at the start is a dip)
-    closed = abs(v1 - v0 - TWO_PI) < 1e-12 and apart(qs[0], qs[m]) < CLOSED_TOL
-    for k in range(m):
+    closed = last == m and abs(v1 - v0 - TWO_PI) < 1e-12 and apart(qs[0], qs[m]) < CLOSED_TOL
+    rl = rs[:last + 1]  # (the points computed: all but where the scan joined a turn)
+    el = es[:last + 1]
+    for k in range(last):
         va = v0 + (v1 - v0) * k / m
         vb = v0 + (v1 - v0) * (k + 1) / m
         ra = rs[k]
         rb = rs[k + 1]
         kb = k - 1 if k > 0 else m - 1  # (the point before; k = 0 only on a closed curve)
-        kind = _cell_kind(rs, es, k, kb, closed)
+        kind = _cell_kind(rl, el, k, kb, closed)
         if kind == 3 and j != 3:
             continue  # (a stall is searched on the straight wrist's split alone: see REDUCED_STALL)
         if kind == 0 or _scan_seen(memo, n, j, v0, v1, m, qs, kind, k, kb):
@@ -845,7 +857,7 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=Fals
             # stall, over the cell and the one beyond it)
             lo, r_lo = (k, ra) if k == 0 and not closed else (k - 1, rs[kb])
             if kind == 3:
-                lo, hi = _stall_bracket(rs, k)
+                lo, hi = _stall_bracket(rl, k)
                 r_lo = rs[lo]
                 for i in range(6):
                     qt[i] = qs[lo, i]
@@ -882,28 +894,91 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=Fals
                 # onto the sheet it started beside)
                 other_wrist(qm, mats[MAT_R07, :3, :3], K, th6, M3, Q3, W3, qt)
                 count, _ = accept(qt.copy(), Td, K, out, count, mats, False, False)
-    if m == REDUCED_GRID and joined < 0:
+    if m == REDUCED_GRID and joined < 0 and last == m:
         _scan_keep(memo, n, j, v0, v1, m, qs, rs, es, closed)
         ws[W_NRSCAN] = n + 1
     ws[W_JUMP] = 0.0
     if j == 3:
         _note_jumps(qs, es, v0, v1, m, ws, 1, DIP_NEAR)
-    elif j == 0 and abs(abs(v1 - v0) - TWO_PI) < 1e-12:
-        _note_jumps(qs, es, v0, v1, m, ws, TURN_JUMP_WIDTH, TURN_JUMP_VALLEY)
-        _note_bent_exits(qs, v0, v1, m, K, ws)
+    elif turn:
+        v_last = v0 + (v1 - v0) * last / m
+        _note_jumps(qs[:last + 1], el, v0, v_last, last, ws, TURN_JUMP_WIDTH, TURN_JUMP_VALLEY)
+        _note_bent_exits(qs[:last + 1], v0, v_last, last, K, ws)
     for i in range(6):
-        ws[W_SEND + i] = qs[m, i]
-    ws[W_SEND + 6] = es[m]
-    ws[W_SEND + 7] = rs[m - 1]
-    ws[W_SEND + 8] = rs[m]
+        ws[W_SEND + i] = qs[last, i]
+    ws[W_SEND + 6] = es[last]
+    ws[W_SEND + 7] = rs[last - 1]
+    ws[W_SEND + 8] = rs[last]
     least = math.inf
-    for k in range(m + 1):
+    for k in range(last + 1):
         t5 = bend(qs[k], K)
         if math.isfinite(rs[k]) and t5 < least:
             least = t5
             for i in range(6):
                 start[i] = qs[k, i]
     return count
+
+
+@njit(allocates=True)
+def turn_tracked(q, v, Td, K, ws):
+    """Whether a whole turn in q1 this pose has scanned (the memo of :func:`reduced_scan`, see
+    SCAN_MEMO) passes through the branch of ``q`` (user angles; its q1 ``v``, a grid point of
+    that turn): ``q``, taken to its least-squares point in place (at most TURN_START_ROUNDS
+    rounds of Gauss-Newton), within TURN_TRACKED of the turn's grid point at ``v``."""
+    T = np.empty((4, 4))
+    J = np.empty((6, 6))
+    A = np.empty((6, 6))
+    ZO = np.empty((7, 6))
+    e = np.empty(6)
+    g = np.empty(6)
+    dq = np.empty(6)
+    for _ in range(TURN_START_ROUNDS):
+        _, _, ok = _reduced_at(q, 0, v, Td, K, T, J, A, e, g, dq, ZO)
+        if not ok:
+            return False
+        if _settled(dq, 0):
+            break
+    memo = ws[W_RSCAN:W_RSCAN + SCAN_MEMO * SCAN_SLOT]
+    for s in range(min(int(ws[W_NRSCAN]), SCAN_MEMO)):
+        if _on_turn(memo[s * SCAN_SLOT:(s + 1) * SCAN_SLOT], v, q, TURN_TRACKED):
+            return True
+    return False
+
+
+@njit
+def _turn_joins(memo, n, v, h, qa, qb):
+    """Whether ``qa`` and ``qb`` (user angles; their q1 ``v - h`` and ``v``) lie within
+    TURN_JOIN_TOL of two points in a row of a whole turn in q1 in the memo (``n`` scans, see
+    SCAN_MEMO): the scan with them has joined that turn's curve. (The points a scan joins by
+    come within 1e-9 of the turn's after two or three cells; curves that only pass each other
+    stay 1e-3 and more apart.)"""
+    for s in range(min(n, SCAN_MEMO)):
+        slot = memo[s * SCAN_SLOT:(s + 1) * SCAN_SLOT]
+        if _on_turn(slot, v - h, qa, TURN_JOIN_TOL) and _on_turn(slot, v, qb, TURN_JOIN_TOL):
+            return True
+    return False
+
+
+@njit
+def _on_turn(slot, v, q, tol):
+    """Whether ``q`` (user angles; its q1 ``v``) lies within ``tol`` (rad, every joint) of the
+    point at ``v`` of the whole turn in q1 kept in the memo ``slot`` (False where the slot is
+    no such turn or ``v`` no point of its grid)."""
+    if slot[0] != 0.0 or slot[3] != REDUCED_GRID or abs(abs(slot[2] - slot[1]) - TWO_PI) > 1e-12:
+        return False
+    h = (slot[2] - slot[1]) / REDUCED_GRID
+    k = int(round(wrap(v - slot[1]) / h))
+    if k < 0:
+        k += REDUCED_GRID
+    if abs(wrap(v - slot[1] - k * h)) > 1e-9:
+        return False
+    b = SCAN_HEAD + 8 * k
+    if apart(slot[b:b + 6], q) < tol:
+        return True
+    if k == 0:  # (the turn's first point is at its last one's q1 too: the curve need not close)
+        b = SCAN_HEAD + 8 * REDUCED_GRID
+        return apart(slot[b:b + 6], q) < tol
+    return False
 
 
 @njit

@@ -102,7 +102,7 @@ from .gaps import (
 )
 from .jit import njit
 from .joints import arm_frame, arm_may_match, filter_margin, with_fold_wrist, with_wrist
-from .reduced import reduced_scan, rescan_jumps
+from .reduced import reduced_scan, rescan_jumps, turn_tracked
 from .singular import (
     cylinder_crossings,
     cylinder_offset,
@@ -808,25 +808,41 @@ def _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
     closed curve per wrist sign, from the nominal arm and wrist at the first grid point the
     branch reaches, or where none does, from the nearest arm of the first that misses by less
     than SHOULDER_TURN_SLACK; the dip-centred scans of :func:`_shoulder_exact` (finer,
-    SHOULDER_REACH each way) still resolve the close pairs beside the dips."""
+    SHOULDER_REACH each way) still resolve the close pairs beside the dips. Then again from
+    the nominal arm half a turn on (see TURN_TRACKED): the centre near axis 1 is reached in
+    front and over the back, each a curve of its own in q1, and a turn from one arm need not
+    come onto the other's; a wrist sign whose start a whole turn of the pose already passes
+    through is not tracked again."""
     th = ws[W_TH:W_TH + NTH]
-    ok = False
-    for slack in (1e-12, SHOULDER_TURN_SLACK):
-        for k in range(REDUCED_GRID):
-            t1 = K[L.SIGN] * (-math.pi + TWO_PI * k / REDUCED_GRID) + K[L.THETA_OFFSET1]
-            _, ok = shoulder_gap(t1, p, a, elbow, K, th, slack)
-            if ok:
-                break
-        if ok:
-            break
-    if not ok:
+    k = _turn_arm(0, REDUCED_GRID, p, a, elbow, K, th)
+    if k < 0:
         return count
     arm_frame(th, R07, K, ws, mats)
-    return _q1_scans(th, TWO_PI, 0.0, REDUCED_GRID, Td, K, hint, out, count, ws, mats)
+    count = _q1_scans(th, TWO_PI, 0.0, REDUCED_GRID, Td, K, hint, out, count, ws, mats)
+    if _turn_arm(k + REDUCED_GRID // 2, 1, p, a, elbow, K, th) < 0:
+        return count
+    arm_frame(th, R07, K, ws, mats)
+    return _q1_scans(th, TWO_PI, 0.0, REDUCED_GRID, Td, K, hint, out, count, ws, mats, True)
 
 
 @njit
-def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
+def _turn_arm(k_from, n, p, a, elbow, K, th):
+    """The first of the ``n`` grid points from ``k_from`` on (REDUCED_GRID over the whole turn of
+    theta1) whose nominal arm on the elbow branch ``elbow`` reaches the centre, or where none
+    does, the first that misses by less than SHOULDER_TURN_SLACK (its arm into ``th``); -1
+    where none."""
+    for slack in (1e-12, SHOULDER_TURN_SLACK):
+        for i in range(n):
+            k = (k_from + i) % REDUCED_GRID
+            t1 = K[L.SIGN] * (-math.pi + TWO_PI * k / REDUCED_GRID) + K[L.THETA_OFFSET1]
+            _, ok = shoulder_gap(t1, p, a, elbow, K, th, slack)
+            if ok:
+                return k
+    return -1
+
+
+@njit
+def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats, untracked=False):
     """The exact model's reduced residual in q1 (:func:`reduced_scan`) tracked from the
     nominal arm of ``th`` (made into ``ws`` and ``mats`` by :func:`arm_frame`) with its wrist of
     either sign, from its q1 over ``span_a`` and then ``span_b`` (rad, user q1; 0: no scan), on
@@ -836,7 +852,10 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
     tracked again, each scan keeping its wrist's sign (see TURN_START_ROUNDS): the branch the
     two left was otherwise seen by the dip-centred scans alone. After each whole turn the cells
     where it jumped off a root's valley or left the fully bent wrist are scanned again
-    (:func:`ik7r._kernels.reduced.rescan_jumps`)."""
+    (:func:`ik7r._kernels.reduced.rescan_jumps`). ``untracked`` (a whole turn): a wrist sign whose
+    start, taken to its least-squares point, a whole turn of the pose passes through already
+    (:func:`ik7r._kernels.reduced.turn_tracked`) is not scanned, and a scan stops where it
+    joins such a turn (nor is the turn tracked again where both end on one curve)."""
     Q = mats[MAT_Q, :3, :3]
     q = ws[W_Q6:W_Q6 + 6]
     qq = ws[W_QQ:W_QQ + 6]
@@ -852,7 +871,10 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
                 continue
             # (the start into qq: reduced_scan reads it once, before it adds anything)
             with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats, qq)
-            count = reduced_scan(qq, 0, v0, v0 + span, cells, Td, K, out, count, ws, mats)
+            if untracked and turn_tracked(qq, v0, Td, K, ws):
+                continue
+            count = reduced_scan(qq, 0, v0, v0 + span, cells, Td, K, out, count, ws, mats, False,
+                                 untracked)
             if turn:
                 if sgn > 0.0:
                     for i in range(6):
@@ -868,7 +890,7 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats):
                     qq[i] = ws[W_SEND + i]
                 count = reduced_scan(qq, 0, v, v + span, cells, Td, K, out, count, ws, mats)
                 v += span
-    if turn and one_curve:
+    if turn and one_curve and not untracked:
         # both wrist signs ended on one curve: the turn again, each scan keeping its wrist's sign
         # from a start taken to its least-squares point (see TURN_START_ROUNDS)
         for sgn in (1.0, -1.0):
