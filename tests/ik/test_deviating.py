@@ -1434,6 +1434,50 @@ def test_shoulder_turn_from_the_other_arm(case):
     assert_complete_once(robot, np.array(q), at_least=3, from_source=True)
 
 
+#: Members without lateral offset whose nominal arm reached the centre nowhere on the turn of q1,
+#: so that nothing of the exact model was tracked there (hunt seeds 685 and 752, the shoulder
+#: kinds at ``--deviate`` 0.1 and 0.3, deviating 1.3 and 4.6 times as far as the published models)
+NO_TURN_START = {
+    # a 45 deg member; every grid point's arm misses by 1.05e-3 in the elbow's cosine and more
+    # (the elbow near its stretch), just beyond SHOULDER_TURN_SLACK
+    "elbow_short_by_the_slack": (
+        [[0.0, 0.0, 421.0, 0.0], [3.0, -1.570783788652311, 0.0, 0.0],
+         [1085.0, 1.900796104130201e-05, -0.0, 0.0], [65.0, -1.570797419422943, 902.0, 0.0],
+         [-0.09623002035153874, -0.7853795088169171, 137.99718615828763, 9.049433235475412e-06],
+         [-0.06380234623503188, 1.5707904939988415, 138.02069506454265, 0.0],
+         [-0.010866902852206824, -0.7854245052327201, 63.0, 0.0]],
+        [-2.4457750969508414, 1.5631704401025515, -1.4871678937497155, 1.003990873509231,
+         0.3161842406633455, 0.5393924734057558],
+    ),
+    # a 44.3 deg member; the line of virtual centres meets every arm plane at d = 50.0, 3 % below
+    # the range's lower end (51.5), beyond the 2 % of ``d_near_range``: the source at q5 = -0.165
+    "centre_below_the_range": (
+        [[0.0, 0.0, 213.0, 0.0], [357.0, -1.5706880810510477, 0.0, 0.0],
+         [1043.0, -6.0556312412866865e-05, -0.0, 0.0], [46.0, -1.5707792601051889, 1315.0, 0.0],
+         [0.2813447106927572, -0.7727533643297877, 72.03072994698596, 2.8725535288160938e-05],
+         [0.3040263492866321, 1.5456578261017124, 71.96699628359264, 0.0],
+         [0.3053674131126843, -0.7727757651945608, 112.0, 0.0]],
+        [2.4086605156919667, 1.721105084316191, -1.5400997472655273, 0.6313679216218415,
+         -0.1651568527945071, 2.658804512243213],
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(NO_TURN_START))
+def test_shoulder_turn_start_widens_with_the_deviation(case):
+    """Where no grid point's nominal arm reaches the centre (within SHOULDER_TURN_SLACK in the
+    elbow's cosine) or the nominal centre lies beyond the range of d by more than 2 %, the whole
+    turn of q1 had no start, and the source was missed (5 answers each). Both margins were
+    measured on the published models; they now widen with the deviation's reach
+    (``singular.deviation_widening``, 1.27 and 4.56 here, 1 on the published models) as the
+    shoulder windows do: the source and every solution of the reference among the answers,
+    every answer exact, none twice."""
+    dh, q = NO_TURN_START[case]
+    robot = Robot(name=case, dh=np.array(dh), coupling=(-1.0, 0.0))
+    assert robot.family.deviation > 0.09 and robot.family.b == 0.0
+    assert_complete_once(robot, np.array(q), at_least=3, from_source=True)
+
+
 def test_fully_bent_wrist_of_a_far_deviating_lateral_member_is_answered():
     """A member with a lateral offset of 200 mm, wrist twists of 31.7 deg and wrist offsets up
     to 0.28 mm (hunt seed 699, the shoulder kinds at ``--deviate 0.2``), the wrist 0.2 rad from

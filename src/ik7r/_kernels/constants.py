@@ -222,7 +222,9 @@ SHOULDER_EFFECT_REF = 1.5e-4
 #: ... and where no arm of the turn reaches the virtual centre (the elbow stretched or folded,
 #: within the deviation of the exact model's reach), the whole turn is tracked from the nearest
 #: arm of the first that misses it by less than this in the elbow's cosine (rounded_b45: a
-#: source whose nominal arm is 0.026 mm, 7.2e-6 in the cosine, short of folded enough)
+#: source whose nominal arm is 0.026 mm, 7.2e-6 in the cosine, short of folded enough), times
+#: :func:`ik7r._kernels.singular.deviation_widening` on a model that deviates further than the
+#: published ones (a 45 deg member deviating 1.27 times as far: every arm short by 1.05e-3)
 SHOULDER_TURN_SLACK = 1e-3
 #: ... and a scan in q1 starts its wrist bent by this (rad) at least: from a straight one the
 #: five other joints' Gauss-Newton is singular (q4 and q7 on one axis) at every point of the turn,

@@ -107,6 +107,7 @@ from .singular import (
     cylinder_crossings,
     cylinder_offset,
     d_near_range,
+    deviation_widening,
     fold_snap,
     line_to_axis1,
     shoulder_offset,
@@ -829,9 +830,9 @@ def _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
 def _turn_arm(k_from, n, p, a, elbow, K, th):
     """The first of the ``n`` grid points from ``k_from`` on (REDUCED_GRID over the whole turn of
     theta1) whose nominal arm on the elbow branch ``elbow`` reaches the centre, or where none
-    does, the first that misses by less than SHOULDER_TURN_SLACK (its arm into ``th``); -1
-    where none."""
-    for slack in (1e-12, SHOULDER_TURN_SLACK):
+    does, the first that misses by less than SHOULDER_TURN_SLACK, widened with the deviation's
+    reach (:func:`deviation_widening`; its arm into ``th``); -1 where none."""
+    for slack in (1e-12, SHOULDER_TURN_SLACK * deviation_widening(K)):
         for i in range(n):
             k = (k_from + i) % REDUCED_GRID
             t1 = K[L.SIGN] * (-math.pi + TWO_PI * k / REDUCED_GRID) + K[L.THETA_OFFSET1]
