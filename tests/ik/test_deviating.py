@@ -46,6 +46,13 @@ def assert_complete_once(robot, q, at_least=0, from_source=False):
     assert answered_twice(robot, sols, T) == []
 
 
+def hunt_member(cases, case):
+    """The robot and source of the hunt member ``cases[case]`` (its DH table and source; the
+    coupling (-1, 0) the hunt draws)."""
+    dh, q = cases[case]
+    return Robot(name=case, dh=np.array(dh), coupling=(-1.0, 0.0)), np.array(q)
+
+
 def misses(robot, Q):
     """Sources of ``Q`` not among the answers of their poses (``reference_ik.among``, every joint
     compared); every answer checked by FK."""
@@ -1379,10 +1386,9 @@ def test_shoulder_turn_scanned_again_where_it_jumped(case):
     beyond, theta5 mirrored about pi) and the runs of up to three points that jumped are now
     scanned again on finer cells: the source and every solution of the reference among the
     answers, every answer exact, none twice."""
-    dh, q = TURN_JUMPS[case]
-    robot = Robot(name=case, dh=np.array(dh), coupling=(-1.0, 0.0))
+    robot, q = hunt_member(TURN_JUMPS, case)
     assert robot.family.deviation > 0.2 and robot.family.b == 0.0
-    assert_complete_once(robot, np.array(q), at_least=3, from_source=True)
+    assert_complete_once(robot, q, at_least=3, from_source=True)
 
 
 #: Members without lateral offset near the shoulder set whose source lay on the other arm's curve
@@ -1428,10 +1434,9 @@ def test_shoulder_turn_from_the_other_arm(case):
     turn), and the source there was missed. The turn now starts again half a turn on, each
     wrist sign whose settled start no whole turn passes through scanned: the source and every
     solution of the reference among the answers, every answer exact, none twice."""
-    dh, q = OTHER_ARM_TURNS[case]
-    robot = Robot(name=case, dh=np.array(dh), coupling=(-1.0, 0.0))
+    robot, q = hunt_member(OTHER_ARM_TURNS, case)
     assert robot.family.deviation > 0.1 and robot.family.b == 0.0
-    assert_complete_once(robot, np.array(q), at_least=3, from_source=True)
+    assert_complete_once(robot, q, at_least=3, from_source=True)
 
 
 #: Members without lateral offset whose nominal arm reached the centre nowhere on the turn of q1,
@@ -1472,10 +1477,52 @@ def test_shoulder_turn_start_widens_with_the_deviation(case):
     (``singular.deviation_widening``, 1.27 and 4.56 here, 1 on the published models) as the
     shoulder windows do: the source and every solution of the reference among the answers,
     every answer exact, none twice."""
-    dh, q = NO_TURN_START[case]
-    robot = Robot(name=case, dh=np.array(dh), coupling=(-1.0, 0.0))
+    robot, q = hunt_member(NO_TURN_START, case)
     assert robot.family.deviation > 0.09 and robot.family.b == 0.0
-    assert_complete_once(robot, np.array(q), at_least=3, from_source=True)
+    assert_complete_once(robot, q, at_least=3, from_source=True)
+
+
+#: 45 deg members with a lateral offset whose source lies just beyond the end of an arm branch
+#: (the elbow's stretch), where the nominal arm misses the centre (hunt seed 777, ``--lateral
+#: --lateral-shoulder --deviate 0.1``; the first deviates like the published models)
+BEYOND_THE_STRETCH = {
+    # b = 5 mm, deviating 0.066 mm: the branch ends at theta5 = 1.797, the source at 1.831 with its
+    # nominal arm short by 3e-5 in the elbow's cosine (the gap +0.29 at the grid point before the
+    # end; beyond it the centre comes within reach again and then inside the lateral cylinder)
+    "b5": (
+        [[0.0, 0.0, 592.0, 0.0], [290.0, 1.570801686543095, 119.0, 0.0],
+         [884.0, -1.618244163758358e-05, -114.0, 0.0], [73.0, -1.5707926096449893, 1184.0, 0.0],
+         [-0.0009530550187874636, -0.7853976060383083, 82.00129414474077, 2.2914038971278388e-05],
+         [0.039535770442148906, 1.5708261184723558, 82.0100700391619, 0.0],
+         [0.06642641224323037, -0.7854015807764111, 79.0, 0.0]],
+        [0.698589572746513, -0.9007247858750453, 1.6252138970488563, -2.0767100813430206,
+         1.8310034221068354, -1.0255406770331685],
+    ),
+    # b = 101 mm, deviating 0.13 mm, the wrist nearly straight (q5 = 0.07)
+    "b101": (
+        [[0.0, 0.0, 33.0, 0.0], [120.0, -1.570796658395606, 143.0, 0.0],
+         [1075.0, 3.431413285770993e-05, -42.0, 0.0], [67.0, -1.5707755798222933, 1005.0, 0.0],
+         [0.1257904232360483, -0.7854163108261046, 66.94564206308851, -3.968117836383065e-05],
+         [-0.09960200384716389, 1.5707802469197523, 67.03644620028318, 0.0],
+         [0.10164903341656469, -0.7853652139066776, 183.0, 0.0]],
+        [-1.0595195557138277, 2.7541751056890904, 1.6343728736839231, -1.7749728145466266,
+         0.0695682324819975, -0.5528833334455325],
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BEYOND_THE_STRETCH))
+def test_source_just_beyond_the_elbow_stretch_of_a_nominal_branch(case):
+    """The exact model reaches further than the nominal one by about its deviation, so beside
+    the elbow's stretch an exact solution can lie beyond the end of the nominal arm branch,
+    where no nominal gap is defined and the nominal polynomial has no root: the source was
+    missed (4 answers of the reference's 5; 15 of 16). Beyond each branch end the gap of the
+    nominal arm allowed to miss by REACH_SLACK_DEVIATING in the elbow's cosine is now searched
+    for sign changes: the source and every solution of the reference among the answers, every
+    answer exact, none twice."""
+    robot, q = hunt_member(BEYOND_THE_STRETCH, case)
+    assert robot.family.deviation > 0.06 and robot.family.b != 0.0
+    assert_complete_once(robot, q, at_least=5, from_source=True)
 
 
 def test_fully_bent_wrist_of_a_far_deviating_lateral_member_is_answered():

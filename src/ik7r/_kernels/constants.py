@@ -265,6 +265,14 @@ assert 2 * (GAP_NEAR_CELLS + 1) <= SCAN_GRID + 1
 #: the end is refined up to the end when below this (rad): beside the stretch the gap is steep,
 #: and on the rounded 45 deg robot a grid point 0.0512 there had a near miss of 3.6e-3 at the end
 GAP_NEAR_END = 0.2
+#: ... and beyond such an end the gap of the nominal arm allowed to miss the centre by this in the
+#: elbow's cosine (times :func:`ik7r._kernels.singular.deviation_widening`) is searched for a
+#: root as well: the exact model reaches further than the nominal one by about its deviation
+#: (a member deviating like the published models: a source 0.02 rad in theta5 beyond the end,
+#: its nominal arm short by 3e-5 there; see :func:`ik7r._kernels.scans._beyond_the_stretch`),
+#: on REACH_SLACK_CELLS cells up to where that slack ends
+REACH_SLACK_DEVIATING = 1e-3
+REACH_SLACK_CELLS = 8
 #: Robots whose fully bent wrist is nearly folded back (``u = cos(2 beta)`` below FOLD_NEAR, a
 #: twist within about 0.6 deg of 45 deg): their virtual centre runs off to infinity near
 #: theta5 = pi, where the residual polynomial cannot be evaluated. The FOLD_SPAN of u next to

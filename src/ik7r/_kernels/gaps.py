@@ -24,11 +24,12 @@ from .constants import (
     FOLD_SPAN,
     LATERAL_ROUNDING,
     LATERAL_SHOULDER_DEVIATING,
+    REACH_SLACK_DEVIATING,
     SCAN_TINY,
 )
 from .jit import njit
 from .poly import brent_next, brent_start, brent_take, illinois_step, secant_point
-from .singular import d_near_range, u_fold
+from .singular import d_near_range, deviation_widening, u_fold
 from .wrist import theta5_cs_of_d
 
 
@@ -155,7 +156,7 @@ def gap_reaches(t, p, a, front, elbow, K, th):
     """Whether the arm branch of :func:`gap` reaches at ``t`` (its ``ok``, the same to the last
     bit), at a fraction of its cost for the bend gaps (no angle of the arm, no gap): the
     bisections for the ends of arm branches in :func:`_scan_piece` ask only this."""
-    if abs(front) == 2.0 or front == 3.0 or abs(front) == 5.0:
+    if abs(front) == 2.0 or front == 3.0 or abs(front) >= 5.0:
         return gap(t, p, a, front, elbow, K, th)[1]
     t5, t1, in_plane = t, 0.0, front == 0.0
     if in_plane:
@@ -181,6 +182,38 @@ def reach_excess(t5, p, a, front, K):
 
 
 @njit
+def reach_slack(K):
+    """How far (in the elbow's cosine) the nominal arm may miss the centre where the exact
+    model's may still reach it: REACH_SLACK_DEVIATING, widened with the deviation
+    (:func:`ik7r._kernels.singular.deviation_widening`)."""
+    return REACH_SLACK_DEVIATING * deviation_widening(K)
+
+
+@njit
+def reach_end(t_in, t_out, slack, p, a, front, K):
+    """Where the elbow of the shoulder branch ``front`` (+-1) passes ``slack`` beyond its reach
+    (:func:`reach_excess`) between ``t_in``, within it, and ``t_out``: ``t_out`` itself where it
+    is within it there too; else Illinois steps to the last bits, the point returned on the
+    inside."""
+    f0 = reach_excess(t_in, p, a, front, K) - slack
+    f1 = reach_excess(t_out, p, a, front, K) - slack
+    if not f1 > 0.0:
+        return t_out
+    if not f0 < 0.0:
+        return t_in
+    side = 0
+    for _ in range(200):
+        t = secant_point(t_in, t_out, f0, f1)  # (the midpoint where f1 is inf: the fold)
+        f = reach_excess(t, p, a, front, K) - slack
+        if f == 0.0:
+            return t
+        t_in, t_out, f0, f1, side, done = illinois_step(t_in, t_out, f0, f1, side, t, f)
+        if done:
+            break
+    return t_in
+
+
+@njit
 def gap(t, p, a, front, elbow, K, th):
     """The bend gap of :func:`bend_gap` at theta5 = ``t`` on the branch (front, elbow), with
     ``front`` 0 that of :func:`shoulder_gap` at theta1 = ``t`` on the elbow branch, with
@@ -190,7 +223,10 @@ def gap(t, p, a, front, elbow, K, th):
     of an island; ``elbow`` unused); with ``front`` +-5 the bend gap of the shoulder branch
     front / 5 with a virtual centre inside the lateral offset's cylinder by no more than
     LATERAL_SHOULDER_DEVIATING of the size taken onto it (both branches merged there: a deviating
-    model's solutions beside the cylinder, :func:`ik7r._kernels.scans.lateral_inside`)."""
+    model's solutions beside the cylinder, :func:`ik7r._kernels.scans.lateral_inside`); with
+    ``front`` +-6 that of the shoulder branch front / 6 whose arm may miss the centre by
+    REACH_SLACK_DEVIATING (widened with the deviation) in the elbow's cosine, the nearest arm
+    taken there (beyond the elbow's stretch: :func:`ik7r._kernels.scans.gap_near_misses`)."""
     if abs(front) == 5.0:
         return bend_gap(t, p, a, 0.2 * front, elbow, K, th, 0.0, False, 1e-12,
                         LATERAL_SHOULDER_DEVIATING * K[L.SCALE])
@@ -200,6 +236,8 @@ def gap(t, p, a, front, elbow, K, th):
         return _fold_axis_gap(t, p, a, elbow, K, th)
     if abs(front) == 4.0:
         return reach_excess(t, p, a, 0.25 * front, K), True
+    if abs(front) == 6.0:
+        return bend_gap(t, p, a, front / 6.0, elbow, K, th, 0.0, False, reach_slack(K))
     if front != 0.0:
         return bend_gap(t, p, a, front, elbow, K, th)
     return shoulder_gap(t, p, a, elbow, K, th)

@@ -42,6 +42,7 @@ from .constants import (
     MAT_Q,
     NEAR_SINGULAR,
     NTH,
+    REACH_SLACK_CELLS,
     REDUCED_GRID,
     SCAN_GRID,
     SCAN_NEAR,
@@ -94,7 +95,9 @@ from .gaps import (
     gap_min,
     gap_reaches,
     gap_root,
+    reach_end,
     reach_excess,
+    reach_slack,
     shoulder_gap,
     shoulder_side,
     shoulder_switch,
@@ -520,6 +523,8 @@ def gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
                     # point (the elbow nearly stretched) has no grid point of its own
                     out_i = i - 1 if math.isfinite(g2) else i + 1
                     g_in = g2 if math.isfinite(g2) else g0
+                    count = _beyond_the_stretch(top * i / m, top * out_i / m, g1, p, a, front, elbow,
+                                                R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
                     if g1 * g_in > 0.0 and abs(g1) <= abs(g_in):
                         t_e = branch_end(top * i / m, top * out_i / m, p, a, front, elbow, K, th)
                         # (far from zero at the grid point, the gap may still reach it at the
@@ -544,6 +549,37 @@ def gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
                 if okm and fm < GAP_NEAR_DEPTH and gm * g1 > 0.0:
                     count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint, has_hint, out,
                                            count, filt, ws, mats)
+    return count
+
+
+@njit
+def _beyond_the_stretch(t_in, t_out, g_in, p, a, front, elbow, R07, Td, K, hint, has_hint, out,
+                        count, filt, ws, mats):
+    """The roots of the bend gap just beyond the end of the arm branch (``front``, ``elbow``)
+    between ``t_in`` (gap ``g_in``) and ``t_out``, where the elbow stretches: the exact model
+    reaches further than the nominal one, so the gap of the nominal arm allowed to miss by
+    REACH_SLACK_DEVIATING in the elbow's cosine (:func:`ik7r._kernels.gaps.gap`, front +-6: the
+    nearest arm) is searched on REACH_SLACK_CELLS cells up to where that slack ends
+    (:func:`reach_end`), and each sign change's root is a candidate. (The reach need not be
+    monotone there: beside the lateral offset's cylinder a member's elbow came back within reach
+    0.04 rad beyond the end, and the gap is undefined where the centre is inside the cylinder.)
+    A member deviating like the published models had its source 0.034 rad in theta5 beyond a
+    branch's end, where the gap came from +0.29: its nominal arm short by 3e-5 in the elbow's
+    cosine there, and nothing was tried."""
+    th = ws[W_TH:W_TH + NTH]
+    t_s = reach_end(t_in, t_out, reach_slack(K), p, a, front, K)
+    ta, ga = t_in, g_in
+    for k in range(1, REACH_SLACK_CELLS + 1):
+        tb = t_in + (t_s - t_in) * k / REACH_SLACK_CELLS
+        gb, ok = gap(tb, p, a, 6.0 * front, elbow, K, th)
+        if not ok:
+            ga = math.nan
+            continue
+        if ga * gb <= 0.0:
+            t = gap_root(ta, tb, ga, gb, p, a, 6.0 * front, elbow, K, th) if gb != 0.0 else tb
+            count = _gap_candidate(t, p, a, 6.0 * front, elbow, R07, Td, K, hint, has_hint, out,
+                                   count, filt, ws, mats)
+        ta, ga = tb, gb
     return count
 
 
@@ -1134,8 +1170,9 @@ def _gap_candidate(t, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count
     th = ws[W_TH:W_TH + NTH]
     if front == 0.0:
         _, ok = shoulder_gap(t, p, a, elbow, K, th)  # the arm of the root, into th; theta5 th[6]
-    elif abs(front) == 5.0:
-        _, ok = gap(t, p, a, front, elbow, K, th)  # (the centre taken onto the lateral cylinder)
+    elif abs(front) >= 5.0:
+        # (the centre taken onto the lateral cylinder; the nearest arm beyond the stretch)
+        _, ok = gap(t, p, a, front, elbow, K, th)
     else:
         # (theta1 from the seed where the virtual centre is on axis 1: the gap does not depend
         # on it when axis 7 is on axis 1 too, where the pose leaves q1 free)
