@@ -1508,6 +1508,18 @@ BEYOND_THE_STRETCH = {
         [-1.0595195557138277, 2.7541751056890904, 1.6343728736839231, -1.7749728145466266,
          0.0695682324819975, -0.5528833334455325],
     ),
+    # b = 93 mm, deviating 0.048 mm (seed 787, ``--deviate 0.05``): no branch end on the grid; the
+    # elbow within 1e-4 of its stretch over 0.4 rad of theta5 and beyond it by at most 3e-6 over
+    # 0.06 of them, where the nominal gap changes sign; a pair of exact solutions there
+    "hole_b93": (
+        [[0.0, 0.0, 102.0, 0.0], [236.0, 1.5708177200422895, 150.0, 0.0],
+         [1386.0, -1.984319596860368e-05, -57.0, 0.0], [142.0, 1.5708048530658358, 875.0, 0.0],
+         [0.032508457809083485, -0.7854073282660442, 77.02878068818555, -7.324751226380083e-06],
+         [0.024692738795081094, 1.5707974809523948, 76.97328727513536, 0.0],
+         [0.047752893315834266, -0.785382426079494, 153.0, 0.0]],
+        [1.54261773929401, -1.7410668102972675, -1.6800989104563797, 1.3499846190660882,
+         -2.4039959654517755, 1.6556430102081308],
+    ),
 }
 
 
@@ -1515,14 +1527,48 @@ BEYOND_THE_STRETCH = {
 def test_source_just_beyond_the_elbow_stretch_of_a_nominal_branch(case):
     """The exact model reaches further than the nominal one by about its deviation, so beside
     the elbow's stretch an exact solution can lie beyond the end of the nominal arm branch,
-    where no nominal gap is defined and the nominal polynomial has no root: the source was
-    missed (4 answers of the reference's 5; 15 of 16). Beyond each branch end the gap of the
-    nominal arm allowed to miss by REACH_SLACK_DEVIATING in the elbow's cosine is now searched
-    for sign changes: the source and every solution of the reference among the answers, every
-    answer exact, none twice."""
+    where no nominal gap is defined and the nominal polynomial has no root, or inside a hole of
+    the nominal reach narrower than the near misses' grid: the source was missed (4 answers of
+    the reference's 5; 15 of 16; 6 of 8). Beyond each branch end, and over each cell at either
+    end of which the elbow is within REACH_SLACK_DEVIATING of its stretch, the gap of the
+    nominal arm allowed to miss by that in the elbow's cosine is now searched for sign changes:
+    the source and every solution of the reference among the answers, every answer exact, none
+    twice."""
     robot, q = hunt_member(BEYOND_THE_STRETCH, case)
-    assert robot.family.deviation > 0.06 and robot.family.b != 0.0
+    assert robot.family.deviation > 0.04 and robot.family.b != 0.0
     assert_complete_once(robot, q, at_least=5, from_source=True)
+
+
+def test_hole_in_the_nominal_reach_deeper_than_its_grid_shows():
+    """A 45 deg member written in mirrored frames (hunt seed 788, ``--lateral-shoulder --frames
+    mirror --deviate 0.1``), deviating 0.11 mm: one shoulder branch's elbow goes beyond its
+    stretch by up to 6.3e-3 (in its cosine) over 0.085 rad of theta5, while the near misses' grid
+    beside that hole shows it 1.6e-3 short at most; the nominal gap changes sign across it, and
+    a pair of exact solutions (the source among them) lies at its near end, where the exact
+    model still reaches: 4 answers of the reference's 6. The cells beside a grid maximum of the
+    elbow's excess within REACH_PEAK are now searched with the slack of the reach as well: the
+    source and every solution of the reference among the answers, every answer exact, none
+    twice."""
+    dh = [[0.0, 0.0, 452.0, -0.4089306437422714], [396.0, -1.5708221036765475, 0.0, -0.29897490086662865],
+          [-967.0, -1.1218268294983715e-05, -0.0, 1.2690288991250769],
+          [-34.0, -1.5708171736138445, 780.0, -2.3900538776810345],
+          [0.005647694318589463, -0.7854084958499788, -76.05535164275234, 2.629687583979856],
+          [-0.10838727781251317, 1.5707906441517774, -76.05653709420264, -0.20629791758572974],
+          [-0.07008425900735327, -0.7853747425756953, 78.0, 1.7489944434235174]]
+    base = [[0.7119221956345257, -0.5338217643287813, -0.45629059960930934, 189.21406213890145],
+            [0.3129695671393025, 0.8228326099534837, -0.47433800821964045, 433.11132392575905],
+            [0.6286627374097765, 0.1948866848351757, 0.7528627648292889, -778.3340099975344],
+            [0.0, 0.0, 0.0, 1.0]]
+    tool = [[-0.3210305489983656, -0.6340526625518579, 0.7035030971649717, -162.39391738482104],
+            [0.15122882306667942, 0.6989704461882963, 0.6989779384424095, 133.10709328266978],
+            [-0.934916696654667, 0.33078321672393507, -0.1285038281534494, -17.800212805203444],
+            [0.0, 0.0, 0.0, 1.0]]
+    robot = Robot(name="hole", dh=np.array(dh), joint_sign=np.array([1.0, -1.0, 1.0, -1.0, -1.0, -1.0, -1.0]),
+                  coupling=(-1.0, 2.4233896663941263), base=np.array(base), tool=np.array(tool))
+    q = [0.6291404165989412, -1.0989115691006806, 0.1665052084357619, -2.437863801298662,
+         0.1363453738099505, 2.4039797533066345]
+    assert robot.family.deviation > 0.1
+    assert_complete_once(robot, np.array(q), at_least=5, from_source=True)
 
 
 def test_fully_bent_wrist_of_a_far_deviating_lateral_member_is_answered():

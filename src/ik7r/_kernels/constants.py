@@ -273,6 +273,9 @@ GAP_NEAR_END = 0.2
 #: on REACH_SLACK_CELLS cells up to where that slack ends
 REACH_SLACK_DEVIATING = 1e-3
 REACH_SLACK_CELLS = 8
+#: ... and so is each cell beside a grid maximum of the elbow's excess over its reach above
+#: -REACH_PEAK (see :func:`ik7r._kernels.scans._near_the_stretch`)
+REACH_PEAK = 1e-2
 #: Robots whose fully bent wrist is nearly folded back (``u = cos(2 beta)`` below FOLD_NEAR, a
 #: twist within about 0.6 deg of 45 deg): their virtual centre runs off to infinity near
 #: theta5 = pi, where the residual polynomial cannot be evaluated. The FOLD_SPAN of u next to

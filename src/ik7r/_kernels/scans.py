@@ -42,6 +42,7 @@ from .constants import (
     MAT_Q,
     NEAR_SINGULAR,
     NTH,
+    REACH_PEAK,
     REACH_SLACK_CELLS,
     REDUCED_GRID,
     SCAN_GRID,
@@ -501,9 +502,15 @@ def gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
     defined neighbour there: the end is bisected for (:func:`branch_end`) and the part between it
     and the point minimised the same way; a branch's islands that hold no more than one grid
     point are found from its elbow's reach (:func:`_islands`). Sign changes are the
-    polynomial's."""
+    polynomial's, except where the exact model reaches further than the nominal one: beyond a
+    branch's end (:func:`_beyond_the_stretch`) and over a cell at either end of which the
+    elbow is within REACH_SLACK_DEVIATING of its stretch (:func:`_slack_roots`; a member
+    deviating like the published models had its elbow within 1e-4 of the stretch over 0.4 rad
+    of theta5, beyond it by at most 3e-6 over 0.06 of them, and a pair of exact solutions
+    there, on both elbows, where the nominal gap changes sign across that hole)."""
     m = GAP_NEAR_CELLS
     gs = ws[W_SCAN:W_SCAN + m + 1]
+    es = ws[W_SCAN + m + 1:W_SCAN + 2 * m + 2]  # (the elbow's excess on the grid: _islands)
     th = ws[W_TH:W_TH + NTH]
     top = math.pi
     if u_fold(K) < FOLD_NEAR:  # (the fold span is the fold gap's: see :func:`scan_fold`)
@@ -542,6 +549,12 @@ def gap_near_misses(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats
                                 count = _gap_candidate(tm, p, a, front, elbow, R07, Td, K, hint,
                                                        has_hint, out, count, filt, ws, mats)
                     continue
+                if (i < m and math.isfinite(g1) and math.isfinite(gs[i + 1])
+                        and _near_the_stretch(es, i, K)):
+                    # the elbow within the slack of its stretch at a cell end, the branch defined
+                    # at both: the exact model may reach where the nominal one does not inside
+                    count = _slack_roots(top * i / m, top * (i + 1) / m, g1, p, a, front, elbow,
+                                         R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
                 if not _grid_dip(g0, g1, g2):
                     continue
                 tm, fm, gm, okm = gap_min(top * max(i - 1, 0) / m, top * min(i + 1, m) / m, p,
@@ -558,28 +571,54 @@ def _beyond_the_stretch(t_in, t_out, g_in, p, a, front, elbow, R07, Td, K, hint,
     """The roots of the bend gap just beyond the end of the arm branch (``front``, ``elbow``)
     between ``t_in`` (gap ``g_in``) and ``t_out``, where the elbow stretches: the exact model
     reaches further than the nominal one, so the gap of the nominal arm allowed to miss by
-    REACH_SLACK_DEVIATING in the elbow's cosine (:func:`ik7r._kernels.gaps.gap`, front +-6: the
-    nearest arm) is searched on REACH_SLACK_CELLS cells up to where that slack ends
-    (:func:`reach_end`), and each sign change's root is a candidate. (The reach need not be
-    monotone there: beside the lateral offset's cylinder a member's elbow came back within reach
-    0.04 rad beyond the end, and the gap is undefined where the centre is inside the cylinder.)
-    A member deviating like the published models had its source 0.034 rad in theta5 beyond a
-    branch's end, where the gap came from +0.29: its nominal arm short by 3e-5 in the elbow's
-    cosine there, and nothing was tried."""
-    th = ws[W_TH:W_TH + NTH]
+    REACH_SLACK_DEVIATING in the elbow's cosine is searched up to where that slack ends
+    (:func:`reach_end`; :func:`_slack_roots`). A member deviating like the published models had
+    its source 0.034 rad in theta5 beyond a branch's end, where the gap came from +0.29: its
+    nominal arm short by 3e-5 in the elbow's cosine there, and nothing was tried."""
     t_s = reach_end(t_in, t_out, reach_slack(K), p, a, front, K)
-    ta, ga = t_in, g_in
+    return _slack_roots(t_in, t_s, g_in, p, a, front, elbow, R07, Td, K, hint, has_hint, out,
+                        count, filt, ws, mats)
+
+
+@njit
+def _near_the_stretch(es, i, K):
+    """Whether the cell [i, i + 1] of the near misses' grid may hold a stretch of theta5 where the
+    exact model's elbow reaches and the nominal one's does not (``es``: the elbow's excess over
+    its reach on the grid, negative where it reaches, :func:`reach_excess`): at either end the
+    excess within the slack of the stretch (:func:`reach_slack`), or either end a grid maximum
+    of it within REACH_PEAK (the hole between grid points can be far deeper than the grid shows:
+    a maximum of -1.6e-3 on the grid, +6.3e-3 0.1 rad beside it)."""
+    m = len(es) - 1
+    if max(es[i], es[i + 1]) > -reach_slack(K):
+        return True
+    for j in (i, i + 1):
+        if 0 < j < m and es[j] >= es[j - 1] and es[j] >= es[j + 1] and es[j] > -REACH_PEAK:
+            return True
+    return False
+
+
+@njit
+def _slack_roots(ta, tb, ga, p, a, front, elbow, R07, Td, K, hint, has_hint, out, count, filt,
+                 ws, mats):
+    """Each sign change of the gap of the nominal arm allowed to miss by REACH_SLACK_DEVIATING in
+    the elbow's cosine (:func:`ik7r._kernels.gaps.gap`, front +-6: the nearest arm) over [ta,
+    tb] on REACH_SLACK_CELLS cells (``ga``: its value at ``ta``, nan if undefined), its root a
+    candidate. The cells are needed: the reach need not be monotone there (beside the lateral
+    offset's cylinder a member's elbow came back within reach 0.04 rad beyond a branch's end,
+    and the gap is undefined where the centre is inside the cylinder)."""
+    th = ws[W_TH:W_TH + NTH]
     for k in range(1, REACH_SLACK_CELLS + 1):
-        tb = t_in + (t_s - t_in) * k / REACH_SLACK_CELLS
-        gb, ok = gap(tb, p, a, 6.0 * front, elbow, K, th)
+        t = ta + (tb - ta) * k / REACH_SLACK_CELLS
+        g, ok = gap(t, p, a, 6.0 * front, elbow, K, th)
         if not ok:
             ga = math.nan
             continue
-        if ga * gb <= 0.0:
-            t = gap_root(ta, tb, ga, gb, p, a, 6.0 * front, elbow, K, th) if gb != 0.0 else tb
-            count = _gap_candidate(t, p, a, 6.0 * front, elbow, R07, Td, K, hint, has_hint, out,
+        if ga * g <= 0.0:
+            t_r = gap_root(t - (tb - ta) / REACH_SLACK_CELLS, t, ga, g, p, a, 6.0 * front, elbow, K,
+                           th) if g != 0.0 else t
+            count = _gap_candidate(t_r, p, a, 6.0 * front, elbow, R07, Td, K, hint, has_hint, out,
                                    count, filt, ws, mats)
-        ta, ga = tb, gb
+        ga = g
     return count
 
 
