@@ -1029,20 +1029,22 @@ def _note_bent_exits(qs, v0, v1, m, K, ws):
         if at_a == at_b:
             continue
         off, at = (k, k - 1) if at_a else (k - 1, k)
-        _note(ws, nj, v0 + (v1 - v0) * off / m, v0 + (v1 - v0) * at / m, qs[off])
-        ws[W_JUMP + 1 + 8 * nj + 2 + 4] = user_angle(4, TWO_PI - dh_angle(qs[off], K, 4), K)
+        b = _note(ws, nj, v0 + (v1 - v0) * off / m, v0 + (v1 - v0) * at / m, qs[off])
+        ws[b + 2 + 4] = user_angle(4, TWO_PI - dh_angle(qs[off], K, 4), K)  # (the start's q5)
         nj += 1
     ws[W_JUMP] = nj
 
 
 @njit
 def _note(ws, nj, va, vb, q):
-    """Write the ``nj``-th note of ``ws[W_JUMP]``: a bracket [va, vb] and its start ``q``."""
+    """Write the ``nj``-th note of ``ws[W_JUMP]``: a bracket [va, vb] and its start ``q`` (six
+    joints); returns where the note begins (the start's joints follow its two ends)."""
     b = W_JUMP + 1 + 8 * nj
     ws[b] = va
     ws[b + 1] = vb
     for i in range(6):
         ws[b + 2 + i] = q[i]
+    return b
 
 
 @njit
