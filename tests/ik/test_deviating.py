@@ -1439,6 +1439,66 @@ def test_shoulder_turn_from_the_other_arm(case):
     assert_complete_once(robot, q, at_least=3, from_source=True)
 
 
+def test_other_arm_turn_tracked_behind_its_start_where_it_joins():
+    """The other arm's whole turn (see the test above) stops where it joins a turn scanned
+    before; the part of its curve behind its start was then never tracked. On this member (hunt
+    seed 788, the shoulder kinds at ``--deviate`` 0.1 in mirrored frames, the centre on axis 1)
+    the turn from the other arm starts on the source's curve at q1 = 0 and joins the first
+    turns 1.2 rad on, while the source and a second solution lie 0.37 and 0.39 rad behind its
+    start, 0.018 rad apart in q1 (one cell). The turn is now tracked from its start the other way
+    round as well, until it joins one too: the source and every solution of the reference among
+    the answers, every answer exact, none twice."""
+    dh = [[0.0, 0.0, 414.0, 2.2954570322229424], [-318.0, 1.5707466757661332, 0.0, 0.19669860669976091],
+          [-711.0, -5.031716742178373e-06, -0.0, -0.6073745796940266],
+          [12.0, 1.5707871681895702, -1458.0, -2.0217894055102312],
+          [-0.017491105109852193, -0.4254833187593749, -136.04222760246705, 2.996381259823865],
+          [0.09761099220667963, 0.8510262495052291, -136.026876101553, -2.509085332667048],
+          [0.0736337643125814, -0.4255060265877157, -175.0, 0.009773843811168246]]
+    base = [[-0.8585938042025265, 0.31332214912905376, -0.4057658317924075, 74.09421006190564],
+            [-0.30173515137820217, 0.3310283663044661, 0.8940783629663396, 876.3028403617336],
+            [0.4144545545748131, 0.890083957594421, -0.1896785982267002, -213.8864452553919],
+            [0.0, 0.0, 0.0, 1.0]]
+    tool = [[-0.39108089130821044, -0.4885605280530019, 0.7799771451024365, 206.83385511533788],
+            [-0.850054254971848, -0.13311295161816394, -0.5095966107773449, 133.41604038029618],
+            [0.3527938492346939, -0.8623163877255682, -0.36324502391924884, -46.89122061287267],
+            [0.0, 0.0, 0.0, 1.0]]
+    sign = np.array([1.0, -1.0, -1.0, -1.0, 1.0, 1.0, -1.0])
+    robot = Robot(name="seed_788", dh=np.array(dh), joint_sign=sign, coupling=(-1.0, -0.48729592715681713),
+                  base=np.array(base), tool=np.array(tool))
+    q = np.array([-0.37360370879757987, -0.7115953421567962, 0.7909063405982115, 0.49987379010522304,
+                  -2.761065177447704, -0.07804729943086963])
+    assert robot.family.deviation > 0.05 and robot.family.b == 0.0
+    sols = robot.ik_all(robot.fk(q))
+    pair = sols[np.abs(wrap(sols[:, 0] - q[0])) < 0.05]
+    assert len(pair) == 2  # (the source and its neighbour, one cell of the turn apart)
+    assert_complete_once(robot, q, at_least=4, from_source=True)
+
+
+def test_fold_with_the_approach_along_axis1_tracked_over_the_turn():
+    """A 45 deg member deviating 1.5 times as far as the published models (hunt seed 773,
+    ``--lateral-shoulder --deviate 0.1``; b = -16) with its wrist fully bent and the approach
+    within 4.4e-5 rad of axis 1: the fully bent wrist's virtual centre is at infinity along axis
+    1, so the nominal arm's theta1 is free there, and the deviation moves the exact model's
+    solutions anywhere in q1, as on the shoulder set. A pair 5e-5 rad apart in q1 and 1.4e-3 in
+    q5, at 1.8e-3 and 4.4e-4 from the fully bent wrist, lies where the nominal fold gap in theta1
+    is 0.3 and more from zero on either elbow: both were missed (6 answers of the reference's
+    8). The exact model is now tracked over the whole turn of q1 there too, from the fold gap's
+    arm: the source and every solution of the reference among the answers, every answer exact,
+    none twice."""
+    dh = [[0.0, 0.0, 258.0, 0.0], [338.0, -1.5707987752866626, -14.0, 0.0],
+          [1309.0, -4.709790989900684e-05, -2.0, 0.0], [179.0, 1.5708157804176206, 1044.0, 0.0],
+          [-0.06956232540996643, -0.7854267141734185, 96.02818110842252, -4.3680637450524686e-05],
+          [0.13035478754912827, 1.5707697237465956, 96.03090426200535, 0.0],
+          [0.14797506360615192, -0.7853745318289072, 60.0, 0.0]]
+    q = [-0.6047323887601408, 2.1796378748845155, -2.1796162372670445, -1.5348653722539947,
+         3.1398408660087216, 0.9886662567923299]
+    robot, q = hunt_member({"seed_773": (dh, q)}, "seed_773")
+    T = robot.fk(q)
+    a = (np.linalg.inv(robot.base) @ T @ np.linalg.inv(robot.tool))[:3, 2]
+    assert np.hypot(a[0], a[1]) < 1e-4 and np.pi - q[4] < 2e-3  # (the case as described)
+    assert_complete_once(robot, q, at_least=8, from_source=True)
+
+
 #: Members without lateral offset whose nominal arm reached the centre nowhere on the turn of q1,
 #: so that nothing of the exact model was tracked there (hunt seeds 685 and 752, the shoulder
 #: kinds at ``--deviate`` 0.1 and 0.3, deviating 1.3 and 4.6 times as far as the published models)

@@ -873,7 +873,7 @@ def _scan_turn(front, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, ma
 
 
 @njit
-def _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
+def _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats, front=0.0):
     """Where the line of virtual centres passes within SHOULDER_EXACT_NEAR of axis 1
     (:func:`shoulder_offset`), on a model that deviates from the idealised one: every exact
     solution on the elbow branch ``elbow`` over the whole turn of q1. There the deviation moves the virtual
@@ -888,32 +888,46 @@ def _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats):
     the nominal arm half a turn on (see TURN_TRACKED): the centre near axis 1 is reached in
     front and over the back, each a curve of its own in q1, and a turn from one arm need not
     come onto the other's; a wrist sign whose start a whole turn of the pose already passes
-    through is not tracked again."""
+    through is not tracked again.
+
+    ``front`` 3: the same at the fully bent wrist of a (nearly) 45 deg twist with the approach
+    along axis 1 (:func:`scan_fold`), from the arm of the fold gap in theta1 (its virtual centre
+    at infinity along axis 1 leaves the nominal arm's theta1 free there, as on the shoulder
+    set: a member deviating 0.15 mm had a pair of solutions 5e-5 rad apart in q1 where that gap
+    is 0.3 and more from zero on either elbow)."""
     th = ws[W_TH:W_TH + NTH]
-    k = _turn_arm(0, REDUCED_GRID, p, a, elbow, K, th)
+    k = _turn_arm(0, REDUCED_GRID, p, a, front, elbow, K, th)
     if k < 0:
         return count
     arm_frame(th, R07, K, ws, mats)
     count = _q1_scans(th, TWO_PI, 0.0, REDUCED_GRID, Td, K, hint, out, count, ws, mats)
-    if _turn_arm(k + REDUCED_GRID // 2, 1, p, a, elbow, K, th) < 0:
+    if _turn_arm(k + REDUCED_GRID // 2, 1, p, a, front, elbow, K, th) < 0:
         return count
     arm_frame(th, R07, K, ws, mats)
     return _q1_scans(th, TWO_PI, 0.0, REDUCED_GRID, Td, K, hint, out, count, ws, mats, True)
 
 
 @njit
-def _turn_arm(k_from, n, p, a, elbow, K, th):
+def _turn_arm(k_from, n, p, a, front, elbow, K, th):
     """The first of the ``n`` grid points from ``k_from`` on (REDUCED_GRID over the whole turn of
     theta1) whose nominal arm on the elbow branch ``elbow`` reaches the centre, or where none
     does, the first that misses by less than SHOULDER_TURN_SLACK, widened with the deviation's
-    reach (:func:`deviation_widening`; its arm into ``th``); -1 where none."""
+    reach (:func:`deviation_widening`; its arm into ``th``); -1 where none. ``front`` 3: the arm
+    of the fold gap in theta1 (:func:`ik7r._kernels.gaps.gap`), where it reaches with the wrist
+    short of fully bent (no slack)."""
     for slack in (1e-12, SHOULDER_TURN_SLACK * deviation_widening(K)):
         for i in range(n):
             k = (k_from + i) % REDUCED_GRID
             t1 = K[L.SIGN] * (-math.pi + TWO_PI * k / REDUCED_GRID) + K[L.THETA_OFFSET1]
-            _, ok = shoulder_gap(t1, p, a, elbow, K, th, slack)
+            if front == 3.0:
+                _, ok = gap(t1, p, a, 3.0, elbow, K, th)
+                ok = ok and th[6] < math.pi
+            else:
+                _, ok = shoulder_gap(t1, p, a, elbow, K, th, slack)
             if ok:
                 return k
+        if front == 3.0:
+            break
     return -1
 
 
@@ -958,6 +972,15 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats, untr
                 else:
                     one_curve = apart(end, ws[W_SEND:W_SEND + 6]) < CLOSED_TOL
                 count = rescan_jumps(0, Td, K, out, count, ws, mats)
+                if untracked and abs(ws[W_SEND] - (v0 + span)) > 1e-9:
+                    # it stopped where it joined a scanned turn: its curve behind the start is
+                    # tracked the other way round, from the same start, until it joins one too
+                    with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats,
+                               qq)
+                    if not turn_tracked(qq, v0, Td, K, ws):  # (the start settled as before)
+                        count = reduced_scan(qq, 0, v0, v0 - span, cells, Td, K, out, count, ws,
+                                             mats, False, True)
+                        count = rescan_jumps(0, Td, K, out, count, ws, mats)
                 continue
             v = v0 + span
             while (abs(v - v0) + abs(span) <= SHOULDER_VALLEY_END + 1e-12
@@ -1163,7 +1186,9 @@ def scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     (nearly) at infinity (``cos(2 beta)`` below FOLD_NEAR): the fold gap (:func:`fold_gap`) of each
     of the four arm branches scanned as the bend gap is (:func:`_scan_piece`), in ``sw =
     sqrt(u - cos(2 beta))`` (proportional to sin((pi - theta5) / 2): solutions close to the fold
-    stay apart on the grid) from the fold (0) to just past where the polynomial search begins."""
+    stay apart on the grid) from the fold (0) to just past where the polynomial search begins.
+    With the approach along axis 1 (:func:`fold_near_axis`) the fold gap in theta1 too, and on a
+    deviating model the exact model over the whole turn of q1 (:func:`_shoulder_turn`)."""
     if K[L.DEVIATION] > 0.0:
         # the exact model's solutions at the fold may come from nominal roots beyond it (u below
         # cos(2 beta), theta5 clamped to pi): near a fold at infinity a twist 1e-4 rad off moves
@@ -1179,6 +1204,10 @@ def scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
         count = _scan_turn(3.0, p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats)
         count = scan_theta5(0.0, 1e-2 * math.sqrt(FOLD_SPAN), p, a, R07, Td, K, hint, has_hint,
                              out, count, filt, ws, mats, 2.0)
+        if K[L.DEVIATION] > 0.0:
+            # the exact model over the whole turn of q1, as on the shoulder set
+            for elbow in (1.0, -1.0):
+                count = _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats, 3.0)
     return count
 
 
