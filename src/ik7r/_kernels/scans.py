@@ -945,7 +945,8 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats, untr
     (:func:`ik7r._kernels.reduced.rescan_jumps`). ``untracked`` (a whole turn): a wrist sign whose
     start, taken to its least-squares point, a whole turn of the pose passes through already
     (:func:`ik7r._kernels.reduced.turn_tracked`) is not scanned, and a scan stops where it
-    joins such a turn (nor is the turn tracked again where both end on one curve)."""
+    joins such a turn, and is then tracked from its start the other way round until it joins
+    one too (nor is the turn tracked again where both end on one curve)."""
     Q = mats[MAT_Q, :3, :3]
     q = ws[W_Q6:W_Q6 + 6]
     qq = ws[W_QQ:W_QQ + 6]
