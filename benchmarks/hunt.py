@@ -29,6 +29,10 @@ the loader accepts (``ik7r.robot.family.ANGLE_TOL`` and ``LENGTH_TOL``): every t
 offsets a4 .. a6 that must vanish, d5 and d6 apart, and the mirror offset of theta5 + theta6,
 each drawn uniformly within its share of the limit (so that the table still loads).
 
+``--kinds fold_axis`` (not among the defaults): the wrist within 1e-2 of fully bent and the
+approach within 3e-2 rad of axis 1 (``reference_ik.singular_joints``); with ``--beta 45`` axes 1,
+4 and 7 are then (nearly) parallel.
+
 Run: ``python benchmarks/hunt.py SEED [MEMBERS] [POSES] [--kinds k1,k2] [--lateral] [--lateral-shoulder]
 [--beta mix|random|DEG] [--frames [mirror]] [--deviate F [--deviate-only C1,C2]]``
 (docs/guide/edges.md has the counts of earlier hunts: the all-kinds hunt is the defaults; the

@@ -544,7 +544,13 @@ def singular_joints(robot, rng, kind, n):
       form; ``near_shoulder``: at 1e-9 .. 1e-3 of the size from it. With a lateral offset b the
       same radial coordinate in the arm's plane (0, or 1e-9 .. 1e-3 of the size) places the centre
       on (or beside) the cylinder of radius abs(b) about axis 1, where the arm's two shoulder
-      branches meet.
+      branches meet;
+    * ``fold_axis`` (not in :data:`KINDS`; the hunts' ``--kinds fold_axis``): DH theta5 within
+      1e-6 .. 1e-2 of pi (either side) and the approach (axis 7, in the base's frame) within
+      1e-6 .. 3e-2 rad of axis 1, in a random direction: theta1 and theta2 solved for it by
+      least squares from random joints (drawn again where that fails; with a 45 deg twist axis 7
+      is (nearly) parallel to axis 4 there, so theta4 hardly turns the approach). Axes 1, 4 and 7
+      are then (nearly) parallel.
     """
     ch = Chain(robot)
     th = rng.uniform(-np.pi, np.pi, (n, 7))
@@ -569,10 +575,34 @@ def singular_joints(robot, rng, kind, n):
             # radial coordinate a1 + cos(t2) X - sin(t2) Y = delta
             c = np.clip((delta - ch.a1) / np.hypot(X, Y), -1.0, 1.0)
             th[:, 1] = -np.arctan2(Y, X) + rng.choice([-1.0, 1.0], n) * np.arccos(c)
+    elif kind == "fold_axis":
+        return np.array([_fold_axis_joints(ch, rng) for _ in range(n)])
     else:
-        raise ValueError(f"kind must be one of {KINDS}; got {kind!r}")
+        raise ValueError(f"kind must be one of {KINDS} or 'fold_axis'; got {kind!r}")
     th[:, 5] = -th[:, 4]
     return np.array([ch.joints(t) for t in th])
+
+
+def _fold_axis_joints(ch, rng, attempts=50):
+    """Joints (6,) of ``singular_joints``' ``fold_axis`` kind."""
+    for _ in range(attempts):
+        th = rng.uniform(-np.pi, np.pi, 7)
+        th[4] = np.pi - rng.choice([-1.0, 1.0]) * 10.0 ** rng.uniform(-6, -2)
+        th[5] = -th[4]
+        tilt, phi = 10.0 ** rng.uniform(-6, -1.5), rng.uniform(-np.pi, np.pi)
+        aim = tilt * np.array([np.cos(phi), np.sin(phi)])
+
+        def off(x, th=th, aim=aim):
+            t = th.copy()
+            t[0], t[1] = x
+            T = ch.base_inv @ ch.fk(ch.joints(t)[None])[0] @ ch.tool_inv
+            return T[:2, 2] - aim
+
+        fit = least_squares(off, th[[0, 1]], xtol=1e-15, ftol=1e-15, gtol=1e-15)
+        if np.abs(fit.fun).max() <= 1e-12:
+            th[0], th[1] = fit.x
+            return ch.joints(th)
+    raise RuntimeError("no joints with the approach along axis 1 found")
 
 
 def answered_twice(robot, sols, T):

@@ -1499,6 +1499,109 @@ def test_fold_with_the_approach_along_axis1_tracked_over_the_turn():
     assert_complete_once(robot, q, at_least=8, from_source=True)
 
 
+#: 45 deg members with the wrist within 1e-3 rad of fully bent and the approach within 3e-2 rad
+#: of axis 1, deviating as far as the loader accepts and a third of that ("third"; the fold probe
+#: and hunt seed 31 ``--kinds fold_axis --beta 45 --deviate 1.0`` of the eighth session of
+#: 2026-12-06, ``docs/guide/edges.md``)
+HELD_FOLD = {
+    "limits_lateral": (
+        [[0.0, 0.0, 496.0, 0.0], [351.0, 1.5709341255649394, 9.0, 0.0],
+         [1371.0, -0.00016470072578195994, -40.0, 0.0], [119.0, 1.5707505216592024, 818.0, 0.0],
+         [0.4812984988677598, -0.7855389376953275, 120.73109741112498, 0.000258585115511468],
+         [0.4186997657472263, 1.5705106368388524, 120.92492594588077, 0.0],
+         [-0.4999897049325613, -0.7853032260638328, 108.0, 0.0]],
+        [-0.06868175647822072, -1.1209751961816554, -2.0205657994848654, 1.527862342937431,
+         3.1408870357434706, 2.054237089101094],
+    ),
+    "limits_wrist_offset": (
+        [[0.0, 0.0, 107.0, 0.0], [226.0, 1.570602243142994, -52.0, 0.0],
+         [1370.0, -0.00031265055121733446, 130.0, 0.0], [76.0, 1.570600508436439, 1305.0, 0.0],
+         [0.017299226582330258, -0.7853654633859801, 136.08433155194857, 0.00034463504876441355],
+         [-1.5139669923284877, 1.5709263825678794, 136.2660380432441, 0.0],
+         [1.4387281042143945, -0.7855370487863211, 184.0, 0.0]],
+        [-1.6409258243897842, 2.639651757781952, 0.5034504832219566, 1.529612927934392,
+         3.141341689237795, -1.6307967338138507],
+    ),
+    "third": (
+        [[0.0, 0.0, 852.0, 0.0], [246.0, 1.5708904251318083, 93.0, 0.0],
+         [702.0, -0.00012527761683560755, -72.0, 0.0], [228.0, 1.5707778108090875, 1488.0, 0.0],
+         [-0.3297286603279679, -0.7853346226424993, 66.89163419339872, 0.0001437684867568688],
+         [0.27035961307434625, 1.5707780734614345, 67.11911339015838, 0.0],
+         [-0.0018361614257070313, -0.7853946134560109, 72.0, 0.0]],
+        [-1.5099141664301392, 0.7194953867838509, -0.7194716962680494, -1.7170925050087629,
+         3.141107320302079, -2.6858855165595905],
+    ),
+    # the approach 0.021 rad from axis 1, beyond the nominal margin of fold_near_axis
+    "limits_tilted": (
+        [[0.0, 0.0, 629.0, 0.0], [326.0, 1.5712894759387217, 114.0, 0.0],
+         [1190.0, 9.150983081809505e-05, 89.0, 0.0], [250.0, 1.5703715812452506, 1330.0, 0.0],
+         [0.7029395712183854, -0.7856214855219346, 79.1965105274492, -0.0003816850964117694],
+         [-0.4637334394417813, 1.5706819113084267, 80.74605509920194, 0.0],
+         [-1.0011212087383374, -0.7854276543339357, 141.0, 0.0]],
+        [-0.33830238523662093, -1.0627679205132683, -2.0999968410421985, -1.6308854696098631,
+         -3.1412128717099694, -1.1207144886635136],
+    ),
+    # the fold gap's arm reaches only at the fold itself; axis 4 27 mm from axis 1
+    "limits_arm_at_the_fold": (
+        [[0.0, 0.0, 483.0, 0.0], [179.0, 1.5710251655290355, 0.0, 0.0],
+         [762.0, 0.00040822016159125984, -0.0, 0.0], [56.0, -1.5710672457811203, 1342.0, 0.0],
+         [0.47784265338644843, -0.7851497447086665, 139.3393615736201, 2.5654217843973704e-05],
+         [0.8026954115108346, 1.5711289622329967, 138.88553070529377, 0.0],
+         [0.7018746673955273, -0.7852659656670917, 103.0, 0.0]],
+        [-0.12669338277587006, 1.5678687404613045, -1.5682332490220556, 0.7396064127126527,
+         -3.1414338409458917, 2.2216298174858577],
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(HELD_FOLD))
+def test_fold_with_the_approach_along_axis1_held_at_the_fold(case):
+    """At the fully bent wrist with the approach along axis 1, axes 1, 4 and 7 are (nearly)
+    parallel and the Jacobian loses two ranks; the exact model's reduced residual in q1 (the five
+    other joints fitted) slides along the fold there and vanishes along it. The first three
+    poses have a pair of solutions within 1e-2 rad of the fold (the reference's, started from
+    the source and from the source with its wrist 1e-2 rad to either side of the fold), 1e-6 to
+    1.4e-4 rad apart in q1: both were missed (6 answers). The whole turn of q1 with joint 5 held
+    at the fold finds them at the dips of the least error. "limits_tilted" (a pair, 6 answers of
+    8) lies beyond the nominal margin of "along axis 1", which now widens with the deviation;
+    "limits_arm_at_the_fold" had nothing answered (the held turn now starts from the fold gap's
+    arm at the fold itself). Each: the source and every solution of the reference among the
+    answers, every answer exact, none twice."""
+    robot, q = hunt_member(HELD_FOLD, case)
+    T = robot.fk(q)
+    a = T[:3, 2]
+    assert np.hypot(a[0], a[1]) < 3e-2 and abs(wrap(q[4] - np.pi)) < 1e-3  # (the case as described)
+    assert misses(robot, q[None]) == []
+    starts = np.array([q, q, q])
+    starts[1:, 4] = np.pi - 1e-2, np.pi + 1e-2
+    ref = reference_ik(robot, T, extra_starts=starts)
+    pair = ref[np.abs(wrap(ref[:, 0] - q[0])) < 1e-3]
+    if case != "limits_arm_at_the_fold":  # (a pair beside the fold)
+        assert len(pair) == 2 and np.abs(wrap(pair[:, 4] - np.pi)).max() < 1e-2, pair
+    sols = robot.ik_all(T)
+    assert [x.tolist() for x in ref if not among(robot, sols, x, T)] == []
+    assert answered_twice(robot, sols, T) == []
+
+
+@pytest.mark.parametrize("case", ["rounded_b45", *sorted(HELD_FOLD)])
+def test_fold_axis_sources_of_deviating_45deg_robots(case):
+    """Sources with the wrist within 1e-2 rad of fully bent and the approach within 3e-2 rad of
+    axis 1 (the reference's ``fold_axis`` kind, written from the geometry: theta1 and theta2
+    solved for the approach) on the benchmark's rounded 45 deg robot and the members above:
+    every source among the answers, or (within 5e-6 rad of the fold) one solution with an answer
+    by the documented rule (closer than 1e-5 rad in every joint: the two wrists +-(180 deg -
+    eps) beside the fold), every answer exact."""
+    robot = Robot(name=case, dh=_ROUNDED_B45_DH) if case == "rounded_b45" else hunt_member(HELD_FOLD, case)[0]
+    Q = singular_joints(robot, np.random.default_rng(94), "fold_axis", 16)
+    T = robot.fk(Q)
+    assert np.abs(wrap(Q[:, 4] - np.pi)).max() < 1e-2 + 1e-3  # (the DH offset of theta5 at most 1e-3)
+    assert np.hypot(T[:, 0, 2], T[:, 1, 2]).max() < 3e-2 + 1e-9
+    ch = Chain(robot)
+    ruled = [(np.abs(wrap(robot.ik_all(robot.fk(q)) - q)).max(axis=1).min(),
+              abs(wrap(ch.theta(q)[0, 4] - np.pi))) for q in misses(robot, Q)]
+    assert all(d < 1e-5 and eps < 5e-6 for d, eps in ruled), ruled
+
+
 #: Members without lateral offset whose nominal arm reached the centre nowhere on the turn of q1,
 #: so that nothing of the exact model was tracked there (hunt seeds 685 and 752, the shoulder
 #: kinds at ``--deviate`` 0.1 and 0.3, deviating 1.3 and 4.6 times as far as the published models)

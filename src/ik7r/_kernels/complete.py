@@ -21,6 +21,7 @@ singular     where the pose lies relative to the singular sets (small predicates
 answers      what is exact and what is one solution: accept, add, the output's passes
 joints       a candidate's six joints from the arm's angles and the wrist
 reduced      the exact model's reduced residual and its scans (deviating models)
+held         the exact model's least error in q1 with the wrist held fully bent (deviating)
 candidates   each arm branch at a root, its wrists, verified
 gaps         the bend, shoulder and fold gaps the scans search
 scans        the scans beside the polynomial: undecided brackets, shoulder set, fold

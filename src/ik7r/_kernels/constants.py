@@ -320,11 +320,50 @@ FOLD_TOUCH = 1e-9
 FOLD_BELOW = 2e-3
 FOLD_BELOW_CELLS = 8
 #: ... and where the scaled virtual centre at the fold is this close to axis 1 (relative to KW
-#: and the robot's size; the approach nearly parallel to axis 1) the fold gap is scanned in
-#: theta1 too.
+#: and the robot's size; the approach nearly parallel to axis 1; widened with the deviation,
+#: see :func:`fold_near_axis`) the fold gap is scanned in theta1 too.
 FOLD_AXIS_NEAR = 0.01
 #: ... where u up to this below the fold is taken at the fold (see :func:`fold_axis_sw`).
 FOLD_AXIS_CLAMP = 1e-9
+#: ... and on a model that deviates from the idealised one, the turn of q1 with joint 5 held at
+#: the fold (:func:`ik7r._kernels.held.held_fold_turn`, REDUCED_GRID cells): a dip of its grid is
+#: searched again over its two cells on this many cells (a member deviating as far as the
+#: loader accepts had two dips of the least error 0.026 rad apart, one a pair of solutions, the
+#: other a near miss of 2.8e-5) ...
+HELD_CELLS = 32
+#: ... a grid point being a dip only where its least error (position over the size, or rad)
+#: is below this, and a point of the finer grid below HELD_SUB_DIP (the dips of the pairs
+#: below: 5e-4 .. 4e-3 on the grid, 3e-5 .. 1.3e-4 on the finer one; a 45 deg robot's
+#: near-shoulder poses whose solutions lie 0.05 rad from the fold: 1e-3 and more) ...
+HELD_DIP = 1e-2
+HELD_SUB_DIP = 1e-3
+#: ... each dip taken to its bottom to this (rad of q1) by golden section, which stops where
+#: the error cannot come below HELD_NEAR in its bracket at HELD_SLOPE times the steeper slope
+#: of the dip's two cells on that grid (the error is at most V-shaped at a zero, its slope
+#: largest away from the bottom) ...
+HELD_BOTTOM = 1e-9
+HELD_SLOPE = 2.0
+#: ... and a bottom whose least error (position over the size, or rad) is below this polished
+#: with joint 5 free, from the wrist this near and this far (rad) to either side of the fold
+#: (pairs of solutions lay at -7e-4 and +7e-3 from it, at -2.5e-4 and -5.7e-3, their bottoms
+#: 1e-9 .. 1e-7; a solution at a bend b from the fold leaves about b^2 / 2 there, 5e-5 at the
+#: far side, 1e-3 for the 0.05 rad of solutions the fold scans find; near misses 1e-5 .. 3e-5) ...
+HELD_NEAR = 1e-4
+HELD_SIDE_NEAR = 1e-3
+HELD_SIDE_FAR = 1e-2
+#: ... each point's four other joints fitted by at most this many Gauss-Newton steps, stopping
+#: at a step below HELD_SETTLE (rad: beside a solution 0.05 rad from the fold the fit converges
+#: linearly, and a step of 1e-6 moves the error by about as much, far below the thresholds
+#: above; at a solution it converges quadratically).
+HELD_STEPS = 8
+HELD_SETTLE = 1e-6
+#: ... and a dip of the turn from the other elbow's arm whose fit is within this (rad, every
+#: joint) of one the first turn searched is that one (up to HELD_SEEN dips kept).
+HELD_SAME = 1e-4
+HELD_SEEN = 16
+#: ... and a turn starts at the first grid point where the fit of the fold gap's arm keeps q2
+#: and q3 within this (rad) of the arm's: elsewhere it may leave for the other arm's curve.
+HELD_ARM = 0.05
 
 #: Straight wrist of a model that deviates from the idealised one (see :func:`straight_family`):
 #: a candidate with theta5 below this (rad) starts a scan of the split q4 over the whole turn,

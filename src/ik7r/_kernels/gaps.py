@@ -525,14 +525,18 @@ def _fold_span_u(K):
 def fold_near_axis(p, a, K):
     """Whether the scaled virtual centre ``u P = u O - KW a`` (O the centre of joint 6) of the
     fully bent wrist (u = cos(2 beta)) lies within FOLD_AXIS_NEAR (relative to ``KW + |u|
-    scale``) of axis 1: the approach (nearly) parallel to axis 1, where theta1 of the fold gap's
-    arm swings next to the fold (and at the fold itself, with a vertical approach, is fixed not
-    by the direction of P but by the position of O4)."""
+    scale``), widened with the deviation (:func:`deviation_widening`), of axis 1: the approach
+    (nearly) parallel to axis 1, where theta1 of the fold gap's arm swings next to the fold (and
+    at the fold itself, with a vertical approach, is fixed not by the direction of P but by the
+    position of O4). A model's deviation turns its approach by about its size over the wrist's
+    offset: members deviating as far as the loader accepts had solutions there with the approach
+    0.019 .. 0.025 rad from axis 1, twice the nominal margin."""
     u = u_fold(K)
     d7 = K[L.D7]
     hx = u * (p[0] - d7 * a[0]) - K[L.KW] * a[0]
     hy = u * (p[1] - d7 * a[1]) - K[L.KW] * a[1]
-    return math.hypot(hx, hy) <= FOLD_AXIS_NEAR * (abs(K[L.KW]) + abs(u) * K[L.SCALE])
+    near = FOLD_AXIS_NEAR * deviation_widening(K)
+    return math.hypot(hx, hy) <= near * (abs(K[L.KW]) + abs(u) * K[L.SCALE])
 
 
 @njit

@@ -164,10 +164,17 @@ def arm_with_wrist(q, t5, R07, K, th, M, Q, W, qq):
 @njit
 def with_wrist(q, Q, t5, c5, s5, t4_hint, K, mats, qq):
     """``qq``: a copy of ``q`` (arm joints set) completed with the wrist for DH angle ``t5``
-    (cosine ``c5``, sine ``s5``)."""
+    (cosine ``c5``, sine ``s5``; :func:`set_wrist`)."""
+    set_wrist(q, Q, t5, c5, s5, t4_hint, K, mats, qq)
+    return qq
+
+
+@njit
+def set_wrist(q, Q, t5, c5, s5, t4_hint, K, mats, qq):
+    """Set ``qq`` to a copy of ``q`` (arm joints set) completed with the wrist for DH angle
+    ``t5`` (cosine ``c5``, sine ``s5``). Returns nothing (see :func:`with_fold_wrist`)."""
     t4, t7 = wrist_ik_cs(Q, c5, s5, t4_hint, K, mats[MAT_WR, :3, :3])
     _completed(q, t4, t5, t7, K, qq)
-    return qq
 
 
 @njit

@@ -920,11 +920,10 @@ def reduced_scan(start, j, v0, v1, m, Td, K, out, count, ws, mats, one_sign=Fals
 
 
 @njit(allocates=True)
-def turn_tracked(q, v, Td, K, ws):
-    """Whether a whole turn in q1 this pose has scanned (the memo of :func:`reduced_scan`, see
-    SCAN_MEMO) passes through the branch of ``q`` (user angles; its q1 ``v``, a grid point of
-    that turn): ``q``, taken to its least-squares point in place (at most TURN_START_ROUNDS
-    rounds of Gauss-Newton), within TURN_TRACKED of the turn's grid point at ``v``."""
+def settle_start(q, v, Td, K):
+    """Take ``q`` (user angles; its q1 ``v``) to its least-squares point with q1 held, in place:
+    at most TURN_START_ROUNDS rounds of Gauss-Newton (:func:`_reduced_at`). Returns False where
+    Gauss-Newton failed."""
     T = np.empty((4, 4))
     J = np.empty((6, 6))
     A = np.empty((6, 6))
@@ -938,6 +937,17 @@ def turn_tracked(q, v, Td, K, ws):
             return False
         if _settled(dq, 0):
             break
+    return True
+
+
+@njit
+def turn_tracked(q, v, Td, K, ws):
+    """Whether a whole turn in q1 this pose has scanned (the memo of :func:`reduced_scan`, see
+    SCAN_MEMO) passes through the branch of ``q`` (user angles; its q1 ``v``, a grid point of
+    that turn): ``q``, taken to its least-squares point in place (:func:`settle_start`), within
+    TURN_TRACKED of the turn's grid point at ``v``."""
+    if not settle_start(q, v, Td, K):
+        return False
     memo = ws[W_RSCAN:W_RSCAN + SCAN_MEMO * SCAN_SLOT]
     for s in range(min(int(ws[W_NRSCAN]), SCAN_MEMO)):
         if _on_turn(memo[s * SCAN_SLOT:(s + 1) * SCAN_SLOT], v, q, TURN_TRACKED):

@@ -37,6 +37,8 @@ from .constants import (
     GAP_NEAR_DEPTH,
     GAP_NEAR_END,
     GAP_NEAR_GRID,
+    HELD_ARM,
+    HELD_SEEN,
     LATERAL_SHOULDER_DEVIATING,
     MAT_M,
     MAT_Q,
@@ -104,9 +106,10 @@ from .gaps import (
     shoulder_switch,
     tiny_piece,
 )
+from .held import held_fold_turn
 from .jit import njit
-from .joints import arm_frame, arm_may_match, filter_margin, with_fold_wrist, with_wrist
-from .reduced import reduced_scan, rescan_jumps, turn_tracked
+from .joints import arm_frame, arm_may_match, filter_margin, set_wrist, with_fold_wrist, with_wrist
+from .reduced import reduced_scan, rescan_jumps, settle_start, turn_tracked
 from .singular import (
     cylinder_crossings,
     cylinder_offset,
@@ -908,20 +911,20 @@ def _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats, front=0.
 
 
 @njit
-def _turn_arm(k_from, n, p, a, front, elbow, K, th):
+def _turn_arm(k_from, n, p, a, front, elbow, K, th, fold=False):
     """The first of the ``n`` grid points from ``k_from`` on (REDUCED_GRID over the whole turn of
     theta1) whose nominal arm on the elbow branch ``elbow`` reaches the centre, or where none
     does, the first that misses by less than SHOULDER_TURN_SLACK, widened with the deviation's
     reach (:func:`deviation_widening`; its arm into ``th``); -1 where none. ``front`` 3: the arm
     of the fold gap in theta1 (:func:`ik7r._kernels.gaps.gap`), where it reaches with the wrist
-    short of fully bent (no slack)."""
+    short of fully bent (no slack), or ``fold``: at the fold itself as well."""
     for slack in (1e-12, SHOULDER_TURN_SLACK * deviation_widening(K)):
         for i in range(n):
             k = (k_from + i) % REDUCED_GRID
             t1 = K[L.SIGN] * (-math.pi + TWO_PI * k / REDUCED_GRID) + K[L.THETA_OFFSET1]
             if front == 3.0:
                 _, ok = gap(t1, p, a, 3.0, elbow, K, th)
-                ok = ok and th[6] < math.pi
+                ok = ok and (fold or th[6] < math.pi)
             else:
                 _, ok = shoulder_gap(t1, p, a, elbow, K, th, slack)
             if ok:
@@ -976,12 +979,14 @@ def _q1_scans(th, span_a, span_b, cells, Td, K, hint, out, count, ws, mats, untr
                 if untracked and abs(ws[W_SEND] - (v0 + span)) > 1e-9:
                     # it stopped where it joined a scanned turn: its curve behind the start is
                     # tracked the other way round, from the same start, until it joins one too
+                    # (the start settled as before; no whole turn of the memo passed through it
+                    # then, and the forward scan that joined is kept in none)
                     with_wrist(q, Q, sgn * t5, math.cos(t5), sgn * math.sin(t5), t4_hint, K, mats,
                                qq)
-                    if not turn_tracked(qq, v0, Td, K, ws):  # (the start settled as before)
-                        count = reduced_scan(qq, 0, v0, v0 - span, cells, Td, K, out, count, ws,
-                                             mats, False, True)
-                        count = rescan_jumps(0, Td, K, out, count, ws, mats)
+                    settle_start(qq, v0, Td, K)
+                    count = reduced_scan(qq, 0, v0, v0 - span, cells, Td, K, out, count, ws, mats,
+                                         False, True)
+                    count = rescan_jumps(0, Td, K, out, count, ws, mats)
                 continue
             v = v0 + span
             while (abs(v - v0) + abs(span) <= SHOULDER_VALLEY_END + 1e-12
@@ -1189,7 +1194,8 @@ def scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
     sqrt(u - cos(2 beta))`` (proportional to sin((pi - theta5) / 2): solutions close to the fold
     stay apart on the grid) from the fold (0) to just past where the polynomial search begins.
     With the approach along axis 1 (:func:`fold_near_axis`) the fold gap in theta1 too, and on a
-    deviating model the exact model over the whole turn of q1 (:func:`_shoulder_turn`)."""
+    deviating model the exact model over the whole turn of q1 (:func:`_shoulder_turn`), and
+    with the wrist held at the fold (:func:`_held_turn`)."""
     if K[L.DEVIATION] > 0.0:
         # the exact model's solutions at the fold may come from nominal roots beyond it (u below
         # cos(2 beta), theta5 clamped to pi): near a fold at infinity a twist 1e-4 rad off moves
@@ -1209,7 +1215,61 @@ def scan_fold(p, a, R07, Td, K, hint, has_hint, out, count, filt, ws, mats):
             # the exact model over the whole turn of q1, as on the shoulder set
             for elbow in (1.0, -1.0):
                 count = _shoulder_turn(elbow, p, a, R07, Td, K, hint, out, count, ws, mats, 3.0)
+            count = _held_turns(p, a, R07, Td, K, hint, out, count, ws, mats)
     return count
+
+
+@njit(allocates=True)
+def _held_turns(p, a, R07, Td, K, hint, out, count, ws, mats):
+    """At the fully bent wrist with the approach along axis 1, on a deviating model: the exact
+    model's least error over the whole turn of q1 with joint 5 held at the fold
+    (:func:`ik7r._kernels.held.held_fold_turn`), from the fold gap's arm on either elbow branch
+    (:func:`_turn_arm`) at the first grid point where the fit stays on that arm (elsewhere the
+    arm's curve may not be there, and a turn from it tracks the other arm's: a member with
+    mirrored frames had its source on the arm the turn from its own arm's first point left),
+    or where it stays nowhere, at the first where the arm reaches.
+    The second turn does not search the dips the first searched. There axes 1, 4 and 7 are
+    (nearly) parallel and the reduced
+    residual of the whole turn (:func:`_shoulder_turn`), q1 held and the five others fitted,
+    slides along the fold: a member deviating as far as the loader accepts had a pair of
+    solutions 1.4e-4 rad apart in q1, 7e-4 and 7e-3 rad to either side of the fold, where the
+    residual of the turn was 1e-10 .. 1e-6 and changed sign wherever its wrist crossed the fold.
+    The start may be the fold gap's arm at the fold itself (where that alone reaches, the joint
+    held there anyway: another such member's only solution lay there, its approach 4e-4 rad
+    from axis 1, axis 4 27 mm from it, and nothing was answered)."""
+    th = ws[W_TH:W_TH + NTH]
+    qq = ws[W_QQ:W_QQ + 6]
+    seen = np.zeros((HELD_SEEN + 1, 6))  # (the dips searched, see held_fold_turn)
+    for elbow in (1.0, -1.0):
+        k = 0
+        k0 = -1
+        stayed = False
+        while k < REDUCED_GRID and not stayed:
+            k = _turn_arm(k, REDUCED_GRID - k, p, a, 3.0, elbow, K, th, True)
+            if k < 0:
+                break
+            k0 = k if k0 < 0 else k0
+            _held_start(th, R07, K, hint, ws, mats)
+            count, stayed = held_fold_turn(qq, REDUCED_GRID, Td, K, out, count, mats, seen,
+                                           HELD_ARM)
+            k += 1
+        if not stayed and k0 >= 0:
+            _turn_arm(k0, 1, p, a, 3.0, elbow, K, th, True)
+            _held_start(th, R07, K, hint, ws, mats)
+            count, _ = held_fold_turn(qq, REDUCED_GRID, Td, K, out, count, mats, seen, math.inf)
+    return count
+
+
+@njit
+def _held_start(th, R07, K, hint, ws, mats):
+    """The start of a turn of :func:`_held_turns` into ``ws[W_QQ:W_QQ + 6]``: the arm of ``th``
+    (made into ``ws`` and ``mats`` by :func:`arm_frame`) with its wrist, joint 5 at the fold."""
+    arm_frame(th, R07, K, ws, mats)
+    t5 = th[6]
+    qq = ws[W_QQ:W_QQ + 6]
+    set_wrist(ws[W_Q6:W_Q6 + 6], mats[MAT_Q, :3, :3], t5, math.cos(t5), math.sin(t5),
+              K[L.SIGN + 3] * hint[3] + K[L.THETA_OFFSET4], K, mats, qq)
+    qq[4] = user_angle(4, math.pi, K)
 
 
 @njit
