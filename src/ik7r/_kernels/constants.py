@@ -337,11 +337,9 @@ HELD_CELLS = 32
 #: near-shoulder poses whose solutions lie 0.05 rad from the fold: 1e-3 and more) ...
 HELD_DIP = 1e-2
 HELD_SUB_DIP = 1e-3
-#: ... each dip taken to its bottom to this (rad of q1) by golden section, which stops where
-#: the error cannot come below HELD_NEAR in its bracket at HELD_SLOPE times the steeper slope
-#: of the dip's two cells on that grid (the error is at most V-shaped at a zero, its slope
-#: largest away from the bottom) ...
-HELD_BOTTOM = 1e-9
+#: ... each dip taken to its bottom by Brent's minimiser, which stops where the error cannot come
+#: below HELD_NEAR in its bracket at HELD_SLOPE times the steeper slope of the dip's two cells on
+#: that grid (the error is at most V-shaped at a zero, its slope largest away from the bottom) ...
 HELD_SLOPE = 2.0
 #: ... and a bottom whose least error (position over the size, or rad) is below this polished
 #: with joint 5 free, from the wrist this near and this far (rad) to either side of the fold

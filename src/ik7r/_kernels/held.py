@@ -20,7 +20,6 @@ import numpy as np
 from . import params as L
 from .answers import accept, apart
 from .constants import (
-    HELD_BOTTOM,
     HELD_CELLS,
     HELD_DIP,
     HELD_NEAR,
@@ -37,12 +36,11 @@ from .constants import (
 )
 from .fk import fk_user, polish_into, residual
 from .jit import njit
+from .poly import brent_next, brent_start, brent_take
 
 #: The joints fitted with q1 and q5 held (bit ``i``: joint ``i + 1``, see :func:`polish`): q2,
 #: q3, q4 and q7.
 HELD_MOVING = 0b101110
-#: Golden section's ratio.
-GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
 
 
 @njit
@@ -66,7 +64,7 @@ def held_fold_turn(start, m, Td, K, out, count, mats, seen, arm):
     angles: ``start[0]`` the first grid point's q1, ``start[4]`` the fold) on ``m`` cells; each
     grid point below HELD_DIP and lower than both neighbours is a dip, the two cells beside it
     are searched again on HELD_CELLS cells (two dips can share a cell), each dip of those below
-    HELD_SUB_DIP is taken to its bottom by golden section, and a bottom below HELD_NEAR is polished
+    HELD_SUB_DIP is taken to its bottom by Brent's minimiser, and a bottom below HELD_NEAR is polished
     with joint 5 free (:func:`ik7r._kernels.answers.accept`) from the wrist HELD_SIDE_NEAR and
     HELD_SIDE_FAR to either side of the fold: a pair of solutions lies there, on one side of it
     or on both. ``seen`` (HELD_SEEN + 1, 6): the fits at the dips an earlier turn of the pose
@@ -155,30 +153,17 @@ def _held_scan(start, v0, h, qs, gs, Td, K, T, J, e, dq, ZO):
 
 @njit
 def _bottom(x, lo, hi, lip, Td, K, T, J, e, dq, ZO):
-    """Golden section for the least :func:`held_error` over q1 in [lo, hi] (a dip of a grid),
-    down to HELD_BOTTOM rad, each point fitted from the last; ``x`` (in: a fit inside the
-    bracket) ends fitted at the bottom. Returns the least error there, or as soon as the
-    bracket's least value less ``lip`` (a bound on the error's slope) times its width stays
-    above HELD_NEAR, that value: no bottom below HELD_NEAR is left in it."""
-    a = lo
-    b = hi
-    c = b - GOLDEN * (b - a)
-    d = a + GOLDEN * (b - a)
-    gc = held_error(x, c, Td, K, T, J, e, dq, ZO)
-    gd = held_error(x, d, Td, K, T, J, e, dq, ZO)
-    while b - a > HELD_BOTTOM:
-        if min(gc, gd) - lip * (b - a) > HELD_NEAR:
-            return min(gc, gd)
-        if gc <= gd:
-            b = d
-            d = c
-            gd = gc
-            c = b - GOLDEN * (b - a)
-            gc = held_error(x, c, Td, K, T, J, e, dq, ZO)
-        else:
-            a = c
-            c = d
-            gc = gd
-            d = a + GOLDEN * (b - a)
-            gd = held_error(x, d, Td, K, T, J, e, dq, ZO)
-    return held_error(x, 0.5 * (a + b), Td, K, T, J, e, dq, ZO)
+    """The least :func:`held_error` over q1 in [lo, hi] (a dip of a grid) by Brent's minimiser
+    (:func:`ik7r._kernels.poly.brent_start`), each point fitted from the last; ``x`` (in: a fit
+    inside the bracket) ends fitted at the bottom. Returns the least error there, or as soon as
+    the least value found less ``lip`` (a bound on the error's slope) times the bracket's width
+    stays above HELD_NEAR, that value: no bottom below HELD_NEAR is left in it."""
+    st, u = brent_start(lo, hi)
+    for _ in range(200):
+        st = brent_take(st, u, held_error(x, u, Td, K, T, J, e, dq, ZO))
+        if st[5] - lip * (st[1] - st[0]) > HELD_NEAR:
+            return st[5]
+        st, u, done = brent_next(st)
+        if done:
+            break
+    return held_error(x, st[2], Td, K, T, J, e, dq, ZO)
